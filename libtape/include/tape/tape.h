@@ -1,0 +1,326 @@
+/* tape.h - public API of libtape, the operation-tape automatic differentiation
+ * engine.
+ *
+ * A user writes a function of n independent variables as ordinary C code
+ * against the recording API below (one handle type, tp_val, for every value).
+ * The same function runs unchanged against three backends:
+ *
+ *   - the recorder, which writes an operation tape once; the finished tape is
+ *     then replayed by sweeps for values, first and second derivatives;
+ *   - the plain double evaluator, which just computes the values;
+ *   - the embedded-tuple evaluator, which carries (value, gradient, packed
+ *     Hessian) over all independents through every operation.
+ *
+ * Conventions
+ *   - Status codes: 0 success, > 0 a warning with valid output (for example
+ *     TP_WARN_NONFINITE: some requested result is NaN or infinite), < 0 an
+ *     error with nothing written. tp_strerror() describes each code and each
+ *     handle keeps a detailed message of its last error.
+ *   - Constructors write through T **out and return a status; destructors
+ *     take T ** and set it to NULL; both accept NULL.
+ *   - Matrices are dense, row-major, with the leading dimension stated.
+ *   - A finished tape is immutable and may be shared by threads; everything a
+ *     sweep writes lives in a tp_ws workspace, one per thread. Sweeps do not
+ *     allocate.
+ *   - The library never aborts and keeps no process-wide state.
+ */
+#ifndef TAPE_TAPE_H
+#define TAPE_TAPE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#if defined(_WIN32)
+#define TP_API
+#elif defined(__GNUC__)
+#define TP_API __attribute__((visibility("default")))
+#else
+#define TP_API
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- status codes ----------------------------------------------------- */
+
+/* X(name, value, description): one list generates the enum, tp_strerror()
+ * and tp_status_name(), and the error table in docs/. */
+#define TP_STATUS_LIST(X)                                                      \
+    X(TP_OK, 0, "success")                                                     \
+    X(TP_WARN_NONFINITE, 1,                                                    \
+      "a result is NaN or infinite (domain error such as log of a negative, "  \
+      "division by zero, or a non-finite input)")                              \
+    X(TP_ERR_NULL, -1, "a required pointer argument is NULL")                  \
+    X(TP_ERR_NOMEM, -2, "out of memory")                                       \
+    X(TP_ERR_SIZE, -3, "a size or index is out of range")                      \
+    X(TP_ERR_FOREIGN, -4, "a value handle belongs to another recording")       \
+    X(TP_ERR_FINISHED, -5, "the recording is already finished")                \
+    X(TP_ERR_HANDLE, -6, "a value handle is invalid (uninitialized, or the "   \
+                         "result of an earlier failed operation)")             \
+    X(TP_ERR_NAME, -7, "a name is unknown, empty, or declared twice")          \
+    X(TP_ERR_BACKEND, -8, "the operation is not available on this backend")    \
+    X(TP_ERR_USER, -9, "a user callback returned an error")                    \
+    X(TP_ERR_TOOBIG, -10, "the tape or a buffer would exceed its size limit")  \
+    X(TP_ERR_EMPTY, -11, "nothing to do: the recording has no outputs, or "    \
+                         "no result is available yet")
+
+typedef enum tp_status {
+#define TP_STATUS_ENUM_(name, value, text) name = value,
+    TP_STATUS_LIST(TP_STATUS_ENUM_)
+#undef TP_STATUS_ENUM_
+} tp_status;
+
+/* A static description of a status code ("unknown status" for others). */
+TP_API const char *tp_strerror(int status);
+/* The enum name of a status code, such as "TP_ERR_NOMEM". */
+TP_API const char *tp_status_name(int status);
+
+/* ---- allocation hook -------------------------------------------------- */
+
+/* One function does all allocation, told the old size (Lua's convention):
+ * new_size == 0 frees ptr and returns NULL; otherwise behaves like realloc
+ * and returns NULL on failure, leaving ptr untouched. ud is passed through.
+ * Every constructor takes a const tp_allocator * (NULL: the C library's). */
+typedef struct tp_allocator {
+    void *(*fn)(void *ud, void *ptr, size_t old_size, size_t new_size);
+    void *ud;
+} tp_allocator;
+
+/* ---- recording contexts ----------------------------------------------- */
+
+/* A recording context: the recorder, the double evaluator or the tuple
+ * evaluator. The recording API below is the same for all three. */
+typedef struct tp_rec tp_rec;
+
+/* A value handle, valid only inside the context that made it. Pass it by
+ * value; never build one by hand. A failed operation returns an invalid
+ * handle and puts its context into a sticky error state, so a sequence of
+ * operations may be written without checking each result: the first error
+ * is reported by tp_rec_status() and by the call that ends the run. */
+typedef struct tp_val {
+    uint32_t id;  /* index in the context */
+    uint32_t tag; /* identifies the context; 0 in an invalid handle */
+} tp_val;
+
+/* The user's function: records outputs from independents and parameters.
+ * Returns 0 on success; any other value stops the run with TP_ERR_USER. */
+typedef int (*tp_func)(tp_rec *r, void *user);
+
+/* Create a recorder for a function of n_indep independent variables.
+ * group[i] in 0..7 assigns independent i to a dependency group (NULL: all in
+ * group 0). Sweeps use the groups to skip derivative work that is
+ * structurally zero: for a Lagrangian, put q in group 0 and qd in group 1. */
+TP_API int tp_recorder_new(tp_rec **out, int n_indep,
+                           const unsigned char *group,
+                           const tp_allocator *al);
+
+/* Create the plain double evaluator for n_indep independents. */
+TP_API int tp_evaluator_new(tp_rec **out, int n_indep,
+                            const tp_allocator *al);
+
+/* Create the embedded-tuple evaluator for n_indep independents: every value
+ * carries its gradient and packed Hessian over all n_indep independents. */
+TP_API int tp_tuple_new(tp_rec **out, int n_indep, const tp_allocator *al);
+
+/* Free any context; *r is set to NULL. Handles it made become invalid. */
+TP_API void tp_rec_free(tp_rec **r);
+
+/* Run f once on r. For the recorder, x may be NULL (values are not needed
+ * to record) and the run appends to the recording. For the evaluators, x
+ * holds n_indep values; each run starts afresh (outputs and intermediate
+ * values of the previous run are discarded, buffers are kept). Returns the
+ * first error of the run, or TP_ERR_USER if f returned non-zero. */
+TP_API int tp_rec_run(tp_rec *r, const double *x, tp_func f, void *user);
+
+/* Override the value a parameter takes in the evaluators (the recorder keeps
+ * the default given at recording, which a workspace may change). */
+TP_API int tp_rec_set_param(tp_rec *r, const char *name, double value);
+
+/* The sticky status of r (TP_OK while no error happened), and a message
+ * describing the first error ("" if none). The message is owned by r. */
+TP_API int tp_rec_status(const tp_rec *r);
+TP_API const char *tp_rec_errmsg(const tp_rec *r);
+
+/* Number of independents of r. */
+TP_API int tp_rec_n_indep(const tp_rec *r);
+
+/* Results of an evaluator run, by output index (order of tp_output calls)
+ * or name. tp_rec_output_index returns -1 for an unknown name. */
+TP_API int tp_rec_n_outputs(const tp_rec *r);
+TP_API int tp_rec_output_index(const tp_rec *r, const char *name);
+TP_API int tp_rec_output_value(const tp_rec *r, int out, double *value);
+
+/* Tuple evaluator only: gradient (n_indep) and packed Hessian of output
+ * out. The packed Hessian holds the lower triangle row by row: entry (i, j)
+ * with i >= j is at i * (i + 1) / 2 + j; n_indep (n_indep + 1) / 2 values.
+ * Either pointer may be NULL. */
+TP_API int tp_tuple_output(const tp_rec *r, int out, double *grad,
+                           double *hess_packed);
+
+/* ---- recording API (all backends) ------------------------------------- */
+
+/* Independent variable i, 0 <= i < n_indep. */
+TP_API tp_val tp_indep(tp_rec *r, int i);
+/* A named parameter with a default value: a value that may change between
+ * replays without re-recording (a mass, a stiffness). Declaring the same
+ * name again returns the same value; a different default is an error. */
+TP_API tp_val tp_param(tp_rec *r, const char *name, double dflt);
+/* A constant. */
+TP_API tp_val tp_const(tp_rec *r, double c);
+/* Declare v as the output called name (names are unique in a run).
+ * Returns a status; errors are also sticky. */
+TP_API int tp_output(tp_rec *r, const char *name, tp_val v);
+
+TP_API tp_val tp_add(tp_rec *r, tp_val a, tp_val b);   /* a + b */
+TP_API tp_val tp_sub(tp_rec *r, tp_val a, tp_val b);   /* a - b */
+TP_API tp_val tp_mul(tp_rec *r, tp_val a, tp_val b);   /* a * b */
+TP_API tp_val tp_div(tp_rec *r, tp_val a, tp_val b);   /* a / b */
+TP_API tp_val tp_pow(tp_rec *r, tp_val a, tp_val b);   /* a ^ b, a > 0 */
+TP_API tp_val tp_atan2(tp_rec *r, tp_val y, tp_val x); /* angle of (x, y) */
+TP_API tp_val tp_hypot(tp_rec *r, tp_val a, tp_val b); /* sqrt(a^2+b^2) */
+
+TP_API tp_val tp_neg(tp_rec *r, tp_val a);
+TP_API tp_val tp_sqr(tp_rec *r, tp_val a);
+TP_API tp_val tp_sqrt(tp_rec *r, tp_val a);
+TP_API tp_val tp_exp(tp_rec *r, tp_val a);
+TP_API tp_val tp_log(tp_rec *r, tp_val a);
+TP_API tp_val tp_sin(tp_rec *r, tp_val a);
+TP_API tp_val tp_cos(tp_rec *r, tp_val a);
+TP_API tp_val tp_tan(tp_rec *r, tp_val a);
+TP_API tp_val tp_asin(tp_rec *r, tp_val a);
+TP_API tp_val tp_acos(tp_rec *r, tp_val a);
+TP_API tp_val tp_atan(tp_rec *r, tp_val a);
+TP_API tp_val tp_sinh(tp_rec *r, tp_val a);
+TP_API tp_val tp_cosh(tp_rec *r, tp_val a);
+TP_API tp_val tp_tanh(tp_rec *r, tp_val a);
+/* |a|; its derivative is taken as sign(a), 0 at a == 0. */
+TP_API tp_val tp_abs(tp_rec *r, tp_val a);
+
+TP_API tp_val tp_powi(tp_rec *r, tp_val a, int k);      /* a ^ k */
+TP_API tp_val tp_powc(tp_rec *r, tp_val a, double c);   /* a ^ c */
+TP_API tp_val tp_addc(tp_rec *r, tp_val a, double c);   /* a + c */
+TP_API tp_val tp_mulc(tp_rec *r, tp_val a, double c);   /* c * a */
+TP_API tp_val tp_csub(tp_rec *r, double c, tp_val a);   /* c - a */
+TP_API tp_val tp_cdiv(tp_rec *r, double c, tp_val a);   /* c / a */
+
+/* sum of n values (0 for n == 0) and dot product of two arrays of n. */
+TP_API tp_val tp_sum(tp_rec *r, int n, const tp_val *a);
+TP_API tp_val tp_dot(tp_rec *r, int n, const tp_val *a, const tp_val *b);
+
+/* ---- the tape --------------------------------------------------------- */
+
+typedef struct tp_tape tp_tape;
+
+/* Finish the recording and build the tape: dead-code elimination, constant
+ * pool compaction and dependency analysis (constant folding and common
+ * subexpression elimination happen while recording). On success *out owns
+ * a new tape and r is finished: recording into it afterwards is an error
+ * (TP_ERR_FINISHED); free it with tp_rec_free. */
+TP_API int tp_recorder_finish(tp_rec *r, tp_tape **out);
+
+TP_API void tp_tape_free(tp_tape **t);
+
+TP_API int tp_tape_n_indep(const tp_tape *t);
+TP_API int tp_tape_n_outputs(const tp_tape *t);
+TP_API int tp_tape_n_params(const tp_tape *t);
+/* Index of a named output or parameter, or -1. */
+TP_API int tp_tape_output_index(const tp_tape *t, const char *name);
+TP_API int tp_tape_param_index(const tp_tape *t, const char *name);
+/* Names and defaults by index (NULL / NaN when out of range). */
+TP_API const char *tp_tape_output_name(const tp_tape *t, int out);
+TP_API const char *tp_tape_param_name(const tp_tape *t, int k);
+TP_API double tp_tape_param_default(const tp_tape *t, int k);
+
+/* Size and shape of a tape, and what finalization did. */
+typedef struct tp_tape_stats {
+    size_t n_ops;       /* operations, leaves (independents, parameters and
+                           constants) included */
+    size_t n_consts;    /* entries of the constant pool */
+    size_t bytes;       /* tape storage: op stream, operands, pool */
+    size_t n_passive;   /* ops that depend on no independent */
+    size_t n_recorded;  /* ops appended while recording */
+    size_t n_cse_hits;  /* ops found already on the tape (hash-consing) */
+    size_t n_folded;    /* ops folded to constants or simplified away */
+    size_t n_dead;      /* ops removed by dead-code elimination */
+} tp_tape_stats;
+TP_API int tp_tape_stats_get(const tp_tape *t, tp_tape_stats *st);
+
+/* Number of ops that depend on the independents of the groups in mask
+ * (bit g for group g); with mask 0, the number of passive ops. */
+TP_API size_t tp_tape_count_dependent(const tp_tape *t, unsigned mask);
+
+/* ---- workspaces and sweeps -------------------------------------------- */
+
+/* Replay buffers for one thread. max_dirs >= 1 is the largest number of
+ * directions a single sweep carries; calls asking for more are split into
+ * chunks of max_dirs. The workspace keeps a pointer to t, which must
+ * outlive it. Parameters start at their defaults. */
+typedef struct tp_ws tp_ws;
+TP_API int tp_ws_new(tp_ws **out, const tp_tape *t, int max_dirs,
+                     const tp_allocator *al);
+TP_API void tp_ws_free(tp_ws **ws);
+TP_API const char *tp_ws_errmsg(const tp_ws *ws);
+
+/* Parameter values used by this workspace's replays. */
+TP_API int tp_ws_set_param(tp_ws *ws, int k, double value);
+TP_API int tp_ws_get_param(const tp_ws *ws, int k, double *value);
+
+/* All sweeps take x (n_indep values) and check every requested result:
+ * TP_WARN_NONFINITE when one is NaN or infinite. n = n_indep, m = n_out. */
+
+/* Zero-order forward: y[m] = outputs at x. */
+TP_API int tp_eval(tp_ws *ws, const double *x, double *y);
+
+/* First-order forward with p directions: y[m] (may be NULL) and
+ * JS = J S (m x p), where S is n x p (row-major, leading dimension p). */
+TP_API int tp_jvp(tp_ws *ws, const double *x, int p, const double *S,
+                  double *y, double *JS);
+
+/* Forward Jacobian with respect to independents first .. first+count-1:
+ * J (m x count). */
+TP_API int tp_jacobian(tp_ws *ws, const double *x, int first, int count,
+                       double *y, double *J);
+
+/* Reverse: g[n] = w^T J for output weights w[m]; y[m] may be NULL. */
+TP_API int tp_vjp(tp_ws *ws, const double *x, const double *w, double *y,
+                  double *g);
+
+/* Reverse: gradient g[n] of output out; *y its value (y may be NULL). */
+TP_API int tp_gradient(tp_ws *ws, const double *x, int out, double *y,
+                       double *g);
+
+/* Forward-over-reverse with p directions: with f = w^T y, g[n] = grad f and
+ * HS = (d2f/dx2) S, n x p. g may be NULL. */
+TP_API int tp_hvp(tp_ws *ws, const double *x, const double *w, int p,
+                  const double *S, double *g, double *HS);
+
+/* Columns first .. first+count-1 of the Hessian of output out:
+ * H (n x count); g[n] may be NULL. */
+TP_API int tp_hessian_cols(tp_ws *ws, const double *x, int out, int first,
+                           int count, double *g, double *H);
+
+/* Full Hessian of output out, H (n x n). */
+TP_API int tp_hessian(tp_ws *ws, const double *x, int out, double *H);
+
+/* Univariate second-order Taylor: for x(s) = x + s d, y[m] = outputs,
+ * y1 = dy/ds and y2 = d2y/ds2 at s = 0 (each m; y and y1 may be NULL). */
+TP_API int tp_taylor2(tp_ws *ws, const double *x, const double *d, double *y,
+                      double *y1, double *y2);
+
+/* What Lagrange's equations need, for a tape whose 2n independents are
+ * x = (q, qd) and whose output out is L: the value *L, dLdq[n], the mass
+ * matrix M = d2L/dqd2 (n x n) and h = (d2L/dqd dq) qd [n]. One forward
+ * sweep and one reverse sweep carrying n directions seeded on qd (chunked
+ * if max_dirs < n). Any of L, dLdq, M, h may be NULL. */
+TP_API int tp_lagrange(tp_ws *ws, const double *x, int out, double *L,
+                       double *dLdq, double *M, double *h);
+
+/* The same blocks from an evaluated tuple context (for comparison). */
+TP_API int tp_tuple_lagrange(const tp_rec *r, int out, double *L,
+                             double *dLdq, double *M, double *h);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* TAPE_TAPE_H */

@@ -1,0 +1,348 @@
+/* drivers.c - the public sweep calls: argument checks, splitting p
+ * directions into chunks of the workspace's max_dirs, copying results out,
+ * and the single check for non-finite results at the end. The kernels are
+ * in forward.c and reverse.c. */
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "tape_internal.h"
+
+static int fail(tp_ws *ws, int status, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+
+static int fail(tp_ws *ws, int status, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(ws->msg, sizeof ws->msg, fmt, ap);
+    va_end(ap);
+    return status;
+}
+
+static bool all_finite(const double *a, size_t n)
+{
+    size_t i;
+    for (i = 0; i < n; i++)
+        if (!isfinite(a[i]))
+            return false;
+    return true;
+}
+
+/* Accumulates the status of a call: TP_WARN_NONFINITE once any requested
+ * result is not finite. */
+static void check(int *st, const double *a, size_t n)
+{
+    if (a && *st == TP_OK && !all_finite(a, n))
+        *st = TP_WARN_NONFINITE;
+}
+
+/* One past the highest output slot with a non-zero weight (w NULL: all
+ * outputs), so sweeps stop where nothing needed lies beyond. */
+static uint32_t end_of(const tp_tape *T, const double *w)
+{
+    uint32_t o, end = T->n_indep + T->n_param;
+    for (o = 0; o < T->n_out; o++)
+        if ((!w || w[o] != 0.0) && T->out_slot[o] + 1 > end)
+            end = T->out_slot[o] + 1;
+    return end;
+}
+
+static int begin(tp_ws *ws, const double *x, const char *fn)
+{
+    if (!ws)
+        return TP_ERR_NULL;
+    if (!x && ws->t->n_indep > 0)
+        return fail(ws, TP_ERR_NULL, "%s: x is NULL", fn);
+    ws->msg[0] = '\0';
+    return TP_OK;
+}
+
+static void copy_outputs(const tp_ws *ws, double *y)
+{
+    const tp_tape *T = ws->t;
+    uint32_t o;
+    if (y)
+        for (o = 0; o < T->n_out; o++)
+            y[o] = ws->v[T->out_slot[o]];
+}
+
+static int check_out(tp_ws *ws, int out, const char *fn)
+{
+    if (out < 0 || (uint32_t)out >= ws->t->n_out)
+        return fail(ws, TP_ERR_SIZE, "%s: output %d outside 0 .. %d", fn,
+                    out, (int)ws->t->n_out - 1);
+    return TP_OK;
+}
+
+/* Output weights selecting output out, in the workspace's scratch. */
+static const double *unit_weights(tp_ws *ws, int out)
+{
+    memset(ws->wout, 0, ws->t->n_out * sizeof(double));
+    ws->wout[out] = 1.0;
+    return ws->wout;
+}
+
+int tp_eval(tp_ws *ws, const double *x, double *y)
+{
+    int st = begin(ws, x, "tp_eval");
+    if (st)
+        return st;
+    if (!y)
+        return fail(ws, TP_ERR_NULL, "tp_eval: y is NULL");
+    tp__fwd0(ws, x, end_of(ws->t, NULL));
+    copy_outputs(ws, y);
+    check(&st, y, ws->t->n_out);
+    return st;
+}
+
+/* Forward sweeps over p directions in chunks; S NULL means unit directions
+ * on independents first .. first+p-1. Writes Y (m x p) and y. */
+static int forward_dirs(tp_ws *ws, const double *x, int p, const double *S,
+                        int first, double *y, double *Y)
+{
+    const tp_tape *T = ws->t;
+    const uint32_t end = end_of(T, NULL);
+    const size_t P = (size_t)ws->P;
+    int st = TP_OK, c0, k;
+    uint32_t o;
+    if (p == 0) {
+        tp__fwd0(ws, x, end);
+    }
+    for (c0 = 0; c0 < p; c0 += ws->P) {
+        const int pc = p - c0 < ws->P ? p - c0 : ws->P;
+        const double *Sc = S ? S + c0 : NULL;
+        const unsigned mask =
+            tp__seed_mask(T, pc, Sc, (size_t)p, first + c0);
+        tp__fwd1(ws, x, pc, Sc, (size_t)p, first + c0, mask, end);
+        for (o = 0; o < T->n_out; o++) {
+            const double *r = ws->tan + T->out_slot[o] * P;
+            for (k = 0; k < pc; k++)
+                Y[(size_t)o * (size_t)p + (size_t)(c0 + k)] = r[k];
+        }
+    }
+    copy_outputs(ws, y);
+    check(&st, y, T->n_out);
+    check(&st, Y, (size_t)T->n_out * (size_t)p);
+    return st;
+}
+
+int tp_jvp(tp_ws *ws, const double *x, int p, const double *S, double *y,
+           double *JS)
+{
+    int st = begin(ws, x, "tp_jvp");
+    if (st)
+        return st;
+    if (p < 0)
+        return fail(ws, TP_ERR_SIZE, "tp_jvp: p = %d", p);
+    if (p > 0 && (!S || !JS))
+        return fail(ws, TP_ERR_NULL, "tp_jvp: S or JS is NULL");
+    return forward_dirs(ws, x, p, S, 0, y, JS);
+}
+
+int tp_jacobian(tp_ws *ws, const double *x, int first, int count, double *y,
+                double *J)
+{
+    int st = begin(ws, x, "tp_jacobian");
+    if (st)
+        return st;
+    if (first < 0 || count < 0 || first + count > (int)ws->t->n_indep)
+        return fail(ws, TP_ERR_SIZE,
+                    "tp_jacobian: columns %d .. %d outside 0 .. %d", first,
+                    first + count - 1, (int)ws->t->n_indep - 1);
+    if (count > 0 && !J)
+        return fail(ws, TP_ERR_NULL, "tp_jacobian: J is NULL");
+    return forward_dirs(ws, x, count, NULL, first, y, J);
+}
+
+int tp_vjp(tp_ws *ws, const double *x, const double *w, double *y, double *g)
+{
+    int st = begin(ws, x, "tp_vjp");
+    const tp_tape *T;
+    if (st)
+        return st;
+    T = ws->t;
+    if (!w || !g)
+        return fail(ws, TP_ERR_NULL, "tp_vjp: w or g is NULL");
+    tp__fwd0(ws, x, end_of(T, y ? NULL : w));
+    tp__rev1(ws, w, end_of(T, w), g);
+    copy_outputs(ws, y);
+    check(&st, y, T->n_out);
+    check(&st, g, T->n_indep);
+    return st;
+}
+
+int tp_gradient(tp_ws *ws, const double *x, int out, double *y, double *g)
+{
+    int st = begin(ws, x, "tp_gradient");
+    const double *w;
+    if (st)
+        return st;
+    if ((st = check_out(ws, out, "tp_gradient")) != TP_OK)
+        return st;
+    if (!g)
+        return fail(ws, TP_ERR_NULL, "tp_gradient: g is NULL");
+    w = unit_weights(ws, out);
+    tp__fwd0(ws, x, end_of(ws->t, w));
+    tp__rev1(ws, w, end_of(ws->t, w), g);
+    if (y)
+        *y = ws->v[ws->t->out_slot[out]];
+    check(&st, y, 1);
+    check(&st, g, ws->t->n_indep);
+    return st;
+}
+
+/* Forward-over-reverse over p directions in chunks (S NULL: unit directions
+ * on first .. first+p-1). Writes g (may be NULL) and H (n x p, leading
+ * dimension p; may be NULL only if p == 0). */
+static int hessian_dirs(tp_ws *ws, const double *x, const double *w, int p,
+                        const double *S, int first, double *g, double *H)
+{
+    const tp_tape *T = ws->t;
+    const uint32_t end = end_of(T, w);
+    int st = TP_OK, c0;
+    double *gg = g ? g : ws->g;
+    if (p == 0) {
+        tp__fwd0(ws, x, end);
+        tp__rev1(ws, w, end, gg);
+    }
+    for (c0 = 0; c0 < p; c0 += ws->P) {
+        const int pc = p - c0 < ws->P ? p - c0 : ws->P;
+        const double *Sc = S ? S + c0 : NULL;
+        const unsigned mask =
+            tp__seed_mask(T, pc, Sc, (size_t)p, first + c0);
+        tp__fwd1(ws, x, pc, Sc, (size_t)p, first + c0, mask, end);
+        tp__rev2(ws, w, pc, mask, end, c0 == 0 ? gg : NULL, H + c0,
+                 (size_t)p);
+    }
+    check(&st, g, T->n_indep);
+    check(&st, H, (size_t)T->n_indep * (size_t)p);
+    return st;
+}
+
+int tp_hvp(tp_ws *ws, const double *x, const double *w, int p,
+           const double *S, double *g, double *HS)
+{
+    int st = begin(ws, x, "tp_hvp");
+    if (st)
+        return st;
+    if (p < 0)
+        return fail(ws, TP_ERR_SIZE, "tp_hvp: p = %d", p);
+    if (!w || (p > 0 && (!S || !HS)))
+        return fail(ws, TP_ERR_NULL, "tp_hvp: w, S or HS is NULL");
+    return hessian_dirs(ws, x, w, p, S, 0, g, HS);
+}
+
+int tp_hessian_cols(tp_ws *ws, const double *x, int out, int first,
+                    int count, double *g, double *H)
+{
+    int st = begin(ws, x, "tp_hessian_cols");
+    if (st)
+        return st;
+    if ((st = check_out(ws, out, "tp_hessian_cols")) != TP_OK)
+        return st;
+    if (first < 0 || count < 0 || first + count > (int)ws->t->n_indep)
+        return fail(ws, TP_ERR_SIZE,
+                    "tp_hessian_cols: columns %d .. %d outside 0 .. %d",
+                    first, first + count - 1, (int)ws->t->n_indep - 1);
+    if (count > 0 && !H)
+        return fail(ws, TP_ERR_NULL, "tp_hessian_cols: H is NULL");
+    return hessian_dirs(ws, x, unit_weights(ws, out), count, NULL, first, g,
+                        H);
+}
+
+int tp_hessian(tp_ws *ws, const double *x, int out, double *H)
+{
+    if (!ws)
+        return TP_ERR_NULL;
+    return tp_hessian_cols(ws, x, out, 0, (int)ws->t->n_indep, NULL, H);
+}
+
+int tp_taylor2(tp_ws *ws, const double *x, const double *d, double *y,
+               double *y1, double *y2)
+{
+    int st = begin(ws, x, "tp_taylor2");
+    const tp_tape *T;
+    uint32_t o;
+    if (st)
+        return st;
+    T = ws->t;
+    if (!d || !y2)
+        return fail(ws, TP_ERR_NULL, "tp_taylor2: d or y2 is NULL");
+    tp__taylor2(ws, x, d, end_of(T, NULL));
+    for (o = 0; o < T->n_out; o++) {
+        const uint32_t s = T->out_slot[o];
+        if (y)
+            y[o] = ws->v[s];
+        if (y1)
+            y1[o] = ws->d1[s];
+        y2[o] = ws->d2[s];
+    }
+    check(&st, y, T->n_out);
+    check(&st, y1, T->n_out);
+    check(&st, y2, T->n_out);
+    return st;
+}
+
+int tp_lagrange(tp_ws *ws, const double *x, int out, double *L, double *dLdq,
+                double *M, double *h)
+{
+    int st = begin(ws, x, "tp_lagrange");
+    const tp_tape *T;
+    const double *w, *qd;
+    uint32_t end;
+    int n, c0, k, i;
+    if (st)
+        return st;
+    T = ws->t;
+    if ((st = check_out(ws, out, "tp_lagrange")) != TP_OK)
+        return st;
+    if (T->n_indep % 2 != 0)
+        return fail(ws, TP_ERR_SIZE,
+                    "tp_lagrange: %u independents are not (q, qd) pairs",
+                    (unsigned)T->n_indep);
+    n = (int)T->n_indep / 2;
+    qd = x + n;
+    w = unit_weights(ws, out);
+    end = end_of(T, w);
+    if (n == 0 || (!M && !h)) {
+        tp__fwd0(ws, x, end);
+        tp__rev1(ws, w, end, ws->g);
+    }
+    if (h)
+        memset(h, 0, (size_t)n * sizeof(double));
+    for (c0 = 0; c0 < n && (M || h); c0 += ws->P) {
+        const int pc = n - c0 < ws->P ? n - c0 : ws->P;
+        const unsigned mask = tp__seed_mask(T, pc, NULL, 0, n + c0);
+        const double *H = ws->hs; /* rows: d/dq (n), then d/dqd (n) */
+        tp__fwd1(ws, x, pc, NULL, 0, n + c0, mask, end);
+        tp__rev2(ws, w, pc, mask, end, c0 == 0 ? ws->g : NULL, ws->hs,
+                 (size_t)pc);
+        for (k = 0; k < pc; k++) {
+            if (M)
+                for (i = 0; i < n; i++)
+                    M[(size_t)i * (size_t)n + (size_t)(c0 + k)] =
+                        H[(size_t)(n + i) * (size_t)pc + (size_t)k];
+            if (h) {
+                /* h_c = sum_j d2L/(dq_j dqd_c) qd_j */
+                double s = 0.0;
+                for (i = 0; i < n; i++)
+                    s += H[(size_t)i * (size_t)pc + (size_t)k] * qd[i];
+                h[c0 + k] = s;
+            }
+        }
+    }
+    if (L)
+        *L = ws->v[T->out_slot[out]];
+    if (dLdq)
+        memcpy(dLdq, ws->g, (size_t)n * sizeof(double));
+    check(&st, L, 1);
+    check(&st, dLdq, (size_t)n);
+    check(&st, M, (size_t)n * (size_t)n);
+    check(&st, h, (size_t)n);
+    return st;
+}

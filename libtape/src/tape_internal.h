@@ -1,0 +1,210 @@
+/* tape_internal.h - structures and internal prototypes shared by the files
+ * of libtape. Not installed.
+ *
+ * Three levels of visibility: tape.h is the public API; this header is
+ * library-internal (used by libtape's files and by its white-box tests);
+ * each .c file keeps its own helpers static.
+ *
+ * Invariants of a finished tape (see finalize.c):
+ *   - op i writes slot i; every operand slot of op i is < i;
+ *   - slots 0 .. n_indep-1 are the INDEP ops in order, then the n_param
+ *     PARAM ops in order, then constants and computations;
+ *   - every non-leaf op and every CONST reaches some output (dead code is
+ *     gone); INDEP and PARAM ops are kept whether used or not;
+ *   - dep[i] has bit g set iff op i depends on an independent of group g.
+ */
+#ifndef TAPE_INTERNAL_H
+#define TAPE_INTERNAL_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "tape/tape.h"
+#include "tape_ops.h"
+
+#define TP_MAX_GROUPS 8
+#define TP_MSG_LEN 256
+/* Slot indices are 32-bit; leave room for "no slot". */
+#define TP_MAX_OPS (UINT32_MAX / 2u)
+#define TP_NO_SLOT UINT32_MAX
+
+/* ---- the op table as data --------------------------------------------- */
+
+typedef struct tp_opinfo {
+    const char *name;    /* "ADD" */
+    unsigned char kind;  /* enum tp_op_kind */
+    unsigned char flags; /* enum tp_op_flag */
+    unsigned char domain; /* enum tp_op_domain */
+    const char *meaning;
+} tp_opinfo;
+
+extern const tp_opinfo tp__opinfo[TP_OP_COUNT];
+
+/* ---- allocation (alloc.c) --------------------------------------------- */
+
+/* The allocator to use: *al, or the C library's when al is NULL. */
+tp_allocator tp__allocator(const tp_allocator *al);
+void *tp__alloc(const tp_allocator *al, size_t size);
+void *tp__calloc(const tp_allocator *al, size_t n, size_t size);
+void tp__free(const tp_allocator *al, void *p, size_t size);
+/* Grow *p (elements of elsize, capacity *cap) to hold at least need
+ * elements, doubling. Returns 0, or -1 on overflow or allocation failure
+ * with *p and *cap unchanged. */
+int tp__grow(const tp_allocator *al, void **p, size_t elsize, size_t *cap,
+             size_t need);
+char *tp__strdup(const tp_allocator *al, const char *s);
+void tp__strfree(const tp_allocator *al, char *s);
+/* a * b, or SIZE_MAX on overflow. */
+size_t tp__mulsz(size_t a, size_t b);
+
+/* ---- recording contexts (rec.c) --------------------------------------- */
+
+/* What a backend implements. Ids are the backend's indices of values; the
+ * common layer (rec.c) has already checked every operand id. */
+typedef struct tp_backend {
+    const char *name;
+    /* Start a run: evaluators discard the previous run's values and make
+     * the n_indep independents ids 0 .. n_indep-1 from x. */
+    int (*begin)(tp_rec *r, const double *x);
+    /* A parameter (k-th declared in this run) with the value it takes. */
+    uint32_t (*param)(tp_rec *r, int k, double value);
+    uint32_t (*constant)(tp_rec *r, double c);
+    /* A non-leaf op; c is the constant (UCONST) or exponent (UINT). */
+    uint32_t (*apply)(tp_rec *r, int op, uint32_t u, uint32_t t, double c);
+    /* The value of an id (evaluators); NULL for the recorder. */
+    double (*value)(const tp_rec *r, uint32_t id);
+    void (*destroy)(tp_rec *r);
+} tp_backend;
+
+typedef struct tp_named {
+    char *name;
+    double value; /* parameter: default (recorder) or value in use */
+    uint32_t id;  /* backend id */
+} tp_named;
+
+/* The common part of every context; backends embed it first. */
+struct tp_rec {
+    const tp_backend *be;
+    tp_allocator al;
+    int n_indep;
+    uint32_t tag;    /* stamped in every handle of this context */
+    uint32_t n_ids;  /* ids below this are valid (set by the backend) */
+    int status;      /* sticky: first error of the current run */
+    bool finished;   /* recorder only: tp_recorder_finish succeeded */
+    bool running;    /* inside tp_rec_run */
+    char msg[TP_MSG_LEN];
+    tp_named *params; /* declared parameters, in declaration order */
+    size_t n_params, cap_params;
+    tp_named *outs; /* outputs, in declaration order */
+    size_t n_outs, cap_outs;
+    tp_named *over; /* evaluators: parameter overrides by name */
+    size_t n_over, cap_over;
+};
+
+/* Initialize / release the common part. */
+int tp__rec_init(tp_rec *r, const tp_backend *be, int n_indep,
+                 const tp_allocator *al);
+void tp__rec_release(tp_rec *r);
+/* Record an error in r if none is recorded yet; returns status. */
+int tp__rec_fail(tp_rec *r, int status, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+/* Apply op through the common checks (for the op-table-driven tests):
+ * a, b are operands (b ignored for unary kinds), c the constant or the
+ * integer exponent. */
+tp_val tp__rec_op(tp_rec *r, int op, tp_val a, tp_val b, double c);
+
+/* ---- the tape --------------------------------------------------------- */
+
+struct tp_tape {
+    tp_allocator al;
+    uint32_t n_ops;    /* total, leaves included */
+    uint32_t n_indep;
+    uint32_t n_param;
+    uint32_t n_out;
+    uint32_t n_const;
+    uint8_t *opc;      /* [n_ops] opcode */
+    uint8_t *dep;      /* [n_ops] group mask */
+    uint32_t *a0;      /* [n_ops] first operand / leaf index */
+    uint32_t *a1;      /* [n_ops] second operand / const index / exponent */
+    double *konst;     /* [n_const] constant pool */
+    uint32_t *out_slot; /* [n_out] */
+    char **out_name;    /* [n_out] */
+    char **param_name;  /* [n_param] */
+    double *param_dflt; /* [n_param] */
+    unsigned char *group; /* [n_indep] */
+    tp_tape_stats stats;
+};
+
+/* Build a tape from a recorder's op stream (finalize.c). */
+typedef struct tp_rawtape {
+    const uint8_t *opc;
+    const uint32_t *a0, *a1;
+    size_t n_ops;
+    const double *konst;
+    size_t n_const;
+    const unsigned char *group;
+    uint32_t n_indep;
+    const tp_named *params; /* id = slot */
+    size_t n_params;
+    const tp_named *outs;   /* id = slot */
+    size_t n_outs;
+    size_t n_cse_hits, n_folded;
+} tp_rawtape;
+int tp__tape_build(const tp_rawtape *raw, const tp_allocator *al,
+                   tp_tape **out, char *msg);
+
+/* ---- workspaces and sweeps -------------------------------------------- */
+
+struct tp_ws {
+    const tp_tape *t;
+    tp_allocator al;
+    int P;            /* row stride of the direction arrays = max_dirs */
+    double *v;        /* [n_ops] values */
+    double *aux;      /* [n_ops] auxiliary values (op_math.h) */
+    double *adj;      /* [n_ops] adjoints; all zero between sweeps */
+    double *tan;      /* [n_ops * P] tangents, row i = slot i */
+    double *atan;     /* [n_ops * P] adjoint tangents; zero between sweeps */
+    double *d1, *d2;  /* [n_ops] Taylor coefficients */
+    double *param;    /* [n_param] parameter values in use */
+    double *hs;       /* [n_indep * P] scratch for Hessian columns */
+    double *g;        /* [n_indep] scratch for gradients */
+    double *wout;     /* [n_out] scratch for output weights */
+    unsigned tan_mask; /* rows of ops outside this dependency mask are zero */
+    int tan_cols;      /* columns of active rows that may be non-zero */
+    char msg[TP_MSG_LEN];
+};
+
+/* Sweeps (forward.c, reverse.c). Ops in slots end and above are not swept. A seed is
+ * either S (n_indep x p, leading dimension lds) or, when S is NULL, unit
+ * directions on independents first .. first+p-1. */
+void tp__fwd0(tp_ws *ws, const double *x, uint32_t end);
+void tp__fwd1(tp_ws *ws, const double *x, int p, const double *S, size_t lds,
+              int first, unsigned mask, uint32_t end);
+void tp__rev1(tp_ws *ws, const double *w, uint32_t end, double *g);
+/* Adjoints and adjoint tangents; results: g[n] (may be NULL) and HS (n x p,
+ * leading dimension ldh) (may be NULL). */
+void tp__rev2(tp_ws *ws, const double *w, int p, unsigned mask, uint32_t end,
+              double *g, double *HS, size_t ldh);
+void tp__taylor2(tp_ws *ws, const double *x, const double *d, uint32_t end);
+/* The dependency mask of a seed (groups of independents it touches). */
+unsigned tp__seed_mask(const tp_tape *t, int p, const double *S, size_t lds,
+                       int first);
+
+/* Reference interpreter (reference.c): the same results as the sweeps,
+ * computed one direction at a time with the generic partials, no skipping
+ * and no reuse of buffers. For tests of the fast paths. Each allocates with
+ * malloc and returns 0 or TP_ERR_NOMEM. */
+int tp__ref_eval(const tp_tape *t, const double *param, const double *x,
+                 double *y);
+int tp__ref_jvp(const tp_tape *t, const double *param, const double *x,
+                const double *s, double *y, double *ys);
+int tp__ref_vjp(const tp_tape *t, const double *param, const double *x,
+                const double *w, double *g);
+int tp__ref_hvp(const tp_tape *t, const double *param, const double *x,
+                const double *w, const double *s, double *hs);
+
+#endif /* TAPE_INTERNAL_H */

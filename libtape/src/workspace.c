@@ -1,0 +1,113 @@
+/* workspace.c - replay buffers for one thread (tp_ws), sized once when the
+ * workspace is made so that no sweep allocates. The tape itself is never
+ * written by a replay; everything mutable lives here. */
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "tape_internal.h"
+
+static void ws_release(tp_ws *ws)
+{
+    const tp_allocator al = ws->al;
+    const tp_tape *T = ws->t;
+    const size_t n = T ? T->n_ops : 0, P = (size_t)ws->P;
+    tp__free(&al, ws->v, n * sizeof(double));
+    tp__free(&al, ws->aux, n * sizeof(double));
+    tp__free(&al, ws->adj, n * sizeof(double));
+    tp__free(&al, ws->tan, n * P * sizeof(double));
+    tp__free(&al, ws->atan, n * P * sizeof(double));
+    tp__free(&al, ws->d1, n * sizeof(double));
+    tp__free(&al, ws->d2, n * sizeof(double));
+    if (T) {
+        tp__free(&al, ws->param, T->n_param * sizeof(double));
+        tp__free(&al, ws->hs, (size_t)T->n_indep * P * sizeof(double));
+        tp__free(&al, ws->wout, T->n_out * sizeof(double));
+        tp__free(&al, ws->g, T->n_indep * sizeof(double));
+    }
+    tp__free(&al, ws, sizeof *ws);
+}
+
+int tp_ws_new(tp_ws **out, const tp_tape *t, int max_dirs,
+              const tp_allocator *al)
+{
+    tp_allocator a = tp__allocator(al);
+    tp_ws *ws;
+    size_t n, P;
+    if (!out)
+        return TP_ERR_NULL;
+    *out = NULL;
+    if (!t)
+        return TP_ERR_NULL;
+    if (max_dirs < 1)
+        return TP_ERR_SIZE;
+    n = t->n_ops;
+    P = (size_t)max_dirs;
+    if (tp__mulsz(tp__mulsz(n, P), sizeof(double)) == SIZE_MAX)
+        return TP_ERR_TOOBIG;
+    ws = tp__calloc(&a, 1, sizeof *ws);
+    if (!ws)
+        return TP_ERR_NOMEM;
+    ws->al = a;
+    ws->t = t;
+    ws->P = max_dirs;
+    ws->v = tp__calloc(&a, n, sizeof(double));
+    ws->aux = tp__calloc(&a, n, sizeof(double));
+    ws->adj = tp__calloc(&a, n, sizeof(double));
+    ws->tan = tp__calloc(&a, n * P, sizeof(double));
+    ws->atan = tp__calloc(&a, n * P, sizeof(double));
+    ws->d1 = tp__calloc(&a, n, sizeof(double));
+    ws->d2 = tp__calloc(&a, n, sizeof(double));
+    ws->param = tp__calloc(&a, t->n_param, sizeof(double));
+    ws->hs = tp__calloc(&a, (size_t)t->n_indep * P, sizeof(double));
+    ws->wout = tp__calloc(&a, t->n_out, sizeof(double));
+    ws->g = tp__calloc(&a, t->n_indep, sizeof(double));
+    if (!ws->v || !ws->aux || !ws->adj || !ws->tan || !ws->atan || !ws->d1 ||
+        !ws->d2 || !ws->param || !ws->hs || !ws->wout ||
+        !ws->g) {
+        ws_release(ws);
+        return TP_ERR_NOMEM;
+    }
+    if (t->n_param)
+        memcpy(ws->param, t->param_dflt, t->n_param * sizeof(double));
+    *out = ws;
+    return TP_OK;
+}
+
+void tp_ws_free(tp_ws **ws)
+{
+    if (!ws || !*ws)
+        return;
+    ws_release(*ws);
+    *ws = NULL;
+}
+
+const char *tp_ws_errmsg(const tp_ws *ws)
+{
+    return ws ? ws->msg : "NULL workspace";
+}
+
+int tp_ws_set_param(tp_ws *ws, int k, double value)
+{
+    if (!ws)
+        return TP_ERR_NULL;
+    if (k < 0 || (uint32_t)k >= ws->t->n_param) {
+        snprintf(ws->msg, sizeof ws->msg,
+                 "tp_ws_set_param: parameter %d outside 0 .. %d", k,
+                 (int)ws->t->n_param - 1);
+        return TP_ERR_SIZE;
+    }
+    ws->param[k] = value;
+    return TP_OK;
+}
+
+int tp_ws_get_param(const tp_ws *ws, int k, double *value)
+{
+    if (!ws || !value)
+        return TP_ERR_NULL;
+    if (k < 0 || (uint32_t)k >= ws->t->n_param)
+        return TP_ERR_SIZE;
+    *value = ws->param[k];
+    return TP_OK;
+}
