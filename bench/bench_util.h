@@ -1,0 +1,27 @@
+/* bench_util.h - what every benchmark program shares: a monotonic clock,
+ * batches calibrated to a minimum duration, medians, and a count of heap
+ * allocations made by anything in the process (alloc_count.c interposes
+ * malloc and friends). Benchmarks print ratios measured in one run; they
+ * never pass or fail on time. */
+#ifndef BENCH_UTIL_H
+#define BENCH_UTIL_H
+
+#include <stddef.h>
+
+/* Seconds from a monotonic clock. */
+double bench_now(void);
+
+/* Median of v[n] (v is reordered). */
+double bench_median(double *v, int n);
+
+/* Calls fn(ctx) reps times; returns seconds per call. */
+double bench_time(void (*fn)(void *), void *ctx, long reps);
+
+/* Number of calls so that one batch of fn takes at least min_seconds. */
+long bench_calibrate(void (*fn)(void *), void *ctx, double min_seconds);
+
+/* Heap allocations (malloc, calloc, realloc, aligned variants) made by the
+ * whole process since it started. */
+unsigned long long bench_alloc_count(void);
+
+#endif
