@@ -113,8 +113,8 @@ static int forward_dirs(tp_ws *ws, const double *x, int p, const double *S,
     if (p == 0) {
         tp__fwd0(ws, x, end);
     }
-    for (c0 = 0; c0 < p; c0 += ws->P) {
-        const int pc = p - c0 < ws->P ? p - c0 : ws->P;
+    for (c0 = 0; c0 < p; c0 += ws->max_dirs) {
+        const int pc = p - c0 < ws->max_dirs ? p - c0 : ws->max_dirs;
         const double *Sc = S ? S + c0 : NULL;
         const unsigned mask =
             tp__seed_mask(T, pc, Sc, (size_t)p, first + c0);
@@ -150,10 +150,12 @@ int tp_jacobian(tp_ws *ws, const double *x, int first, int count, double *y,
     int st = begin(ws, x, "tp_jacobian");
     if (st)
         return st;
-    if (first < 0 || count < 0 || first + count > (int)ws->t->n_indep)
+    /* written so that first + count cannot overflow */
+    if (first < 0 || count < 0 || first > (int)ws->t->n_indep ||
+        count > (int)ws->t->n_indep - first)
         return fail(ws, TP_ERR_SIZE,
-                    "tp_jacobian: columns %d .. %d outside 0 .. %d", first,
-                    first + count - 1, (int)ws->t->n_indep - 1);
+                    "tp_jacobian: %d columns from %d outside 0 .. %d", count,
+                    first, (int)ws->t->n_indep - 1);
     if (count > 0 && !J)
         return fail(ws, TP_ERR_NULL, "tp_jacobian: J is NULL");
     return forward_dirs(ws, x, count, NULL, first, y, J);
@@ -210,8 +212,8 @@ static int hessian_dirs(tp_ws *ws, const double *x, const double *w, int p,
         tp__fwd0(ws, x, end);
         tp__rev1(ws, w, end, gg);
     }
-    for (c0 = 0; c0 < p; c0 += ws->P) {
-        const int pc = p - c0 < ws->P ? p - c0 : ws->P;
+    for (c0 = 0; c0 < p; c0 += ws->max_dirs) {
+        const int pc = p - c0 < ws->max_dirs ? p - c0 : ws->max_dirs;
         const double *Sc = S ? S + c0 : NULL;
         const unsigned mask =
             tp__seed_mask(T, pc, Sc, (size_t)p, first + c0);
@@ -245,10 +247,11 @@ int tp_hessian_cols(tp_ws *ws, const double *x, int out, int first,
         return st;
     if ((st = check_out(ws, out, "tp_hessian_cols")) != TP_OK)
         return st;
-    if (first < 0 || count < 0 || first + count > (int)ws->t->n_indep)
+    if (first < 0 || count < 0 || first > (int)ws->t->n_indep ||
+        count > (int)ws->t->n_indep - first)
         return fail(ws, TP_ERR_SIZE,
-                    "tp_hessian_cols: columns %d .. %d outside 0 .. %d",
-                    first, first + count - 1, (int)ws->t->n_indep - 1);
+                    "tp_hessian_cols: %d columns from %d outside 0 .. %d",
+                    count, first, (int)ws->t->n_indep - 1);
     if (count > 0 && !H)
         return fail(ws, TP_ERR_NULL, "tp_hessian_cols: H is NULL");
     return hessian_dirs(ws, x, unit_weights(ws, out), count, NULL, first, g,
@@ -315,8 +318,8 @@ int tp_lagrange(tp_ws *ws, const double *x, int out, double *L, double *dLdq,
     }
     if (h)
         memset(h, 0, (size_t)n * sizeof(double));
-    for (c0 = 0; c0 < n && (M || h); c0 += ws->P) {
-        const int pc = n - c0 < ws->P ? n - c0 : ws->P;
+    for (c0 = 0; c0 < n && (M || h); c0 += ws->max_dirs) {
+        const int pc = n - c0 < ws->max_dirs ? n - c0 : ws->max_dirs;
         const unsigned mask = tp__seed_mask(T, pc, NULL, 0, n + c0);
         const double *H = ws->hs; /* rows: d/dq (n), then d/dqd (n) */
         tp__fwd1(ws, x, pc, NULL, 0, n + c0, mask, end);

@@ -2,11 +2,19 @@
  *
  *   1. dead-code elimination: only ops that reach an output survive
  *      (INDEP and PARAM ops always survive, so their slots are fixed);
- *   2. renumbering: INDEP ops, then PARAM ops, then the live rest in
- *      recording order (which is a topological order);
- *   3. the constant pool keeps only entries that live ops use;
- *   4. dependency analysis: dep[i] is the set of independent groups op i
- *      depends on, so sweeps can skip structurally zero derivative work.
+ *   2. dependency analysis: dep[i] is the set of independent groups op i
+ *      depends on, so sweeps can skip structurally zero derivative work,
+ *      plus a flag on an active binary op with a passive operand;
+ *   3. renumbering: INDEP ops, then PARAM ops, then the passive ops (those
+ *      that depend on no independent: constants and functions of
+ *      parameters), then the active ops, each in recording order. Passive
+ *      ops depend only on passive ops, so this is still a topological
+ *      order; a workspace computes the passive prefix once per parameter
+ *      change and sweeps start at first_active;
+ *   4. the constant pool keeps only entries that live ops use;
+ *   5. sin/cos pairing: when sin(u) and cos(u) are both on the tape, the
+ *      later one takes its value from the earlier one's auxiliary value
+ *      (a1 = earlier slot + 1), so an angle costs one sincos per sweep.
  * Also tape queries and destruction (the tape's other public functions).
  */
 #include <math.h>
@@ -77,22 +85,48 @@ static int tape_alloc(tp_tape *t)
     return 0;
 }
 
+/* For each live SIN or COS op, link it to an earlier COS or SIN op of the
+ * same operand: a1 = partner slot + 1 (0 when unpaired). */
+static int pair_sincos(tp_tape *t, const tp_allocator *al)
+{
+    uint32_t *seen = tp__calloc(al, t->n_ops, 4); /* operand -> slot + 1 */
+    uint32_t i;
+    if (!seen)
+        return -1;
+    for (int pass = 0; pass < 2; pass++) {
+        const unsigned first = pass ? TP_OP_COS : TP_OP_SIN;
+        const unsigned other = pass ? TP_OP_SIN : TP_OP_COS;
+        memset(seen, 0, (size_t)t->n_ops * 4);
+        for (i = t->first_active; i < t->n_ops; i++) {
+            if (t->opc[i] == first && !seen[t->a0[i]])
+                seen[t->a0[i]] = i + 1;
+            else if (t->opc[i] == other && seen[t->a0[i]] &&
+                     seen[t->a0[i]] - 1 < i && t->a1[i] == 0)
+                t->a1[i] = seen[t->a0[i]];
+        }
+    }
+    tp__free(al, seen, (size_t)t->n_ops * 4);
+    return 0;
+}
+
 int tp__tape_build(const tp_rawtape *raw, const tp_allocator *al,
                    tp_tape **out, char *msg)
 {
     size_t n = raw->n_ops, i, n_live = 0, n_kept_k = 0;
-    uint8_t *live = NULL;
+    uint8_t *live = NULL, *rdep = NULL;
     uint32_t *map = NULL, *kmap = NULL, next;
     tp_tape *t = NULL;
-    int rc = TP_ERR_NOMEM, nops;
+    int rc = TP_ERR_NOMEM, nops, pass;
 
     live = tp__calloc(al, n, 1);
+    rdep = tp__calloc(al, n, 1);
     map = tp__calloc(al, n, 4);
     kmap = tp__calloc(al, raw->n_const, 4);
     t = tp__calloc(al, 1, sizeof *t);
-    if (!live || !map || !kmap || !t)
+    if (t)
+        t->al = *al; /* before any goto fail: tape_release frees with it */
+    if (!live || !rdep || !map || !kmap || !t)
         goto fail;
-    t->al = *al;
 
     /* 1. liveness, walking backwards from the outputs */
     for (i = 0; i < raw->n_outs; i++)
@@ -118,7 +152,17 @@ int tp__tape_build(const tp_rawtape *raw, const tp_allocator *al,
     for (i = 0; i < raw->n_const; i++)
         kmap[i] = kmap[i] ? (uint32_t)n_kept_k++ : UINT32_MAX;
 
-    /* 2. counts, then arrays */
+    /* 2. dependency groups, in recording (topological) order */
+    for (i = 0; i < n; i++) {
+        unsigned op = raw->opc[i];
+        if (op == TP_OP_INDEP)
+            rdep[i] = (uint8_t)(1u << raw->group[raw->a0[i]]);
+        else if (has_slot_operands(op, &nops))
+            rdep[i] = (uint8_t)(rdep[raw->a0[i]] |
+                                (nops == 2 ? rdep[raw->a1[i]] : 0));
+    }
+
+    /* counts, then arrays */
     t->n_ops = (uint32_t)n_live;
     t->n_indep = raw->n_indep;
     t->n_param = (uint32_t)raw->n_params;
@@ -127,20 +171,24 @@ int tp__tape_build(const tp_rawtape *raw, const tp_allocator *al,
     if (tape_alloc(t) != 0)
         goto fail;
 
-    /* 3. renumber: INDEP, PARAM (by parameter index), the rest in order */
+    /* 3. renumber: INDEP, PARAM (by parameter index), passive, active */
     for (i = 0; i < raw->n_indep; i++)
         map[i] = (uint32_t)i;
     for (i = 0; i < raw->n_params; i++)
         map[raw->params[i].id] = raw->n_indep + (uint32_t)i;
     next = raw->n_indep + (uint32_t)raw->n_params;
-    for (i = raw->n_indep; i < n; i++)
-        if (live[i] && raw->opc[i] != TP_OP_PARAM)
-            map[i] = next++;
+    for (pass = 0; pass < 2; pass++) {
+        if (pass == 1)
+            t->first_active = next;
+        for (i = raw->n_indep; i < n; i++)
+            if (live[i] && raw->opc[i] != TP_OP_PARAM &&
+                (rdep[i] != 0) == (pass == 1))
+                map[i] = next++;
+    }
 
     for (i = 0; i < n; i++) {
         unsigned op = raw->opc[i];
         uint32_t s, b0 = raw->a0[i], b1 = raw->a1[i];
-        unsigned d = 0;
         if (!live[i])
             continue;
         s = map[i];
@@ -148,31 +196,32 @@ int tp__tape_build(const tp_rawtape *raw, const tp_allocator *al,
         case TP_KIND_LEAF:
             if (op == TP_OP_CONST)
                 b0 = kmap[b0];
-            else if (op == TP_OP_INDEP)
-                d = 1u << raw->group[b0];
-            else /* PARAM: its index is its position among parameters */
+            else if (op == TP_OP_PARAM) /* its index among parameters */
                 b0 = s - raw->n_indep;
             break;
         case TP_KIND_BINARY:
             b0 = map[b0];
             b1 = map[b1];
-            d = t->dep[b0] | t->dep[b1];
             break;
         case TP_KIND_UCONST:
             b0 = map[b0];
             b1 = kmap[b1];
-            d = t->dep[b0];
             break;
-        default: /* UNARY, UINT */
+        case TP_KIND_UNARY:
             b0 = map[b0];
-            d = t->dep[b0];
+            b1 = 0; /* SIN/COS pairing below may set it */
+            break;
+        default: /* UINT */
+            b0 = map[b0];
             break;
         }
-        /* operands precede their op in the new order */
         t->opc[s] = (uint8_t)op;
         t->a0[s] = b0;
         t->a1[s] = b1;
-        t->dep[s] = (uint8_t)d;
+        t->dep[s] = rdep[i];
+        if (rdep[i] && tp__opinfo[op].kind == TP_KIND_BINARY)
+            t->dep[s] |= (uint8_t)((rdep[raw->a0[i]] ? 0u : TP_DEP_UPASSIVE) |
+                                   (rdep[raw->a1[i]] ? 0u : TP_DEP_TPASSIVE));
     }
     for (i = 0; i < raw->n_const; i++)
         if (kmap[i] != UINT32_MAX)
@@ -190,14 +239,16 @@ int tp__tape_build(const tp_rawtape *raw, const tp_allocator *al,
         if (!t->param_name[i])
             goto fail;
     }
+    if (pair_sincos(t, al) != 0)
+        goto fail;
 
-    /* 4. statistics */
+    /* statistics */
     t->stats.n_ops = t->n_ops;
     t->stats.n_consts = t->n_const;
     t->stats.bytes = (size_t)t->n_ops * (1 + 1 + 4 + 4) +
                      (size_t)t->n_const * sizeof(double);
     for (i = 0; i < t->n_ops; i++)
-        t->stats.n_passive += t->dep[i] == 0;
+        t->stats.n_passive += (t->dep[i] & TP_DEP_GROUPS) == 0;
     t->stats.n_recorded = n;
     t->stats.n_cse_hits = raw->n_cse_hits;
     t->stats.n_folded = raw->n_folded;
@@ -211,9 +262,10 @@ fail:
         snprintf(msg, TP_MSG_LEN, "tp_recorder_finish: out of memory");
     if (t)
         tape_release(t);
-    tp__free(al, live, n ? n : 1);
-    tp__free(al, map, n ? n * 4 : 1);
-    tp__free(al, kmap, raw->n_const ? raw->n_const * 4 : 1);
+    tp__free(al, live, n);
+    tp__free(al, rdep, n);
+    tp__free(al, map, n * 4);
+    tp__free(al, kmap, raw->n_const * 4);
     return rc;
 }
 
@@ -279,6 +331,7 @@ size_t tp_tape_count_dependent(const tp_tape *t, unsigned mask)
     if (!t)
         return 0;
     for (i = 0; i < t->n_ops; i++)
-        c += mask ? (t->dep[i] & mask) != 0 : t->dep[i] == 0;
+        c += mask ? (t->dep[i] & mask & TP_DEP_GROUPS) != 0
+                  : (t->dep[i] & TP_DEP_GROUPS) == 0;
     return c;
 }

@@ -9,6 +9,36 @@
 #include "op_math.h"
 #include "tape_internal.h"
 
+/* Direction rows are swept in whole groups of TP_LANES columns (the row
+ * stride P is a multiple of it); the padding columns hold zeros. A fixed
+ * inner trip count lets the compiler emit straight vector code with no
+ * remainder loop, which matters for the few directions of small systems. */
+#define FOR_LANES(k, pr)                                                   \
+    for (int k##4_ = 0; k##4_ < (pr); k##4_ += TP_LANES)                   \
+        for (int k = k##4_; k < k##4_ + TP_LANES; k++)
+
+/* The row-heavy kernels are also compiled for AVX2 and picked at load time
+ * (GCC's function multi-versioning), so a generic build uses 4-wide
+ * vectors where the machine has them. No FMA: both versions round alike. */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) &&    \
+    defined(__linux__)
+#define TP_VECTOR_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define TP_VECTOR_CLONES
+#endif
+
+/* For small per-op bodies that must be inlined into a sweep loop. */
+#if defined(__GNUC__)
+#define TP_INLINE inline __attribute__((always_inline))
+#else
+#define TP_INLINE inline
+#endif
+
+static inline int tp__lanes(int p)
+{
+    return (p + TP_LANES - 1) / TP_LANES * TP_LANES;
+}
+
 /* a1 of a UINT op holds the exponent in two's complement. */
 static inline int tp__u2i(uint32_t t)
 {
@@ -42,6 +72,13 @@ static inline double tp__value_at(const tp_tape *T, const double *v,
     case TP_OP_MULC: return T->konst[t] * v[u];
     case TP_OP_CSUB: return T->konst[t] - v[u];
     case TP_OP_SQR: return v[u] * v[u];
+    case TP_OP_SIN:
+    case TP_OP_COS:
+        if (t) { /* paired: the partner's aux is this value and vice versa */
+            aux[i] = v[t - 1];
+            return aux[t - 1];
+        }
+        return tp__op_value_aux((int)op, v[u], 0.0, 0.0, &aux[i]);
     default:
         return tp__op_value_aux(
             (int)op, v[u],

@@ -8,10 +8,18 @@
  * Invariants of a finished tape (see finalize.c):
  *   - op i writes slot i; every operand slot of op i is < i;
  *   - slots 0 .. n_indep-1 are the INDEP ops in order, then the n_param
- *     PARAM ops in order, then constants and computations;
+ *     PARAM ops in order, then the passive ops (dep == 0: constants and
+ *     functions of parameters only), then from first_active the ops that
+ *     depend on some independent;
+ *   - a1 of a SIN or COS op is 0, or 1 + the slot of an earlier COS or SIN
+ *     op of the same operand, whose auxiliary value is this op's value;
  *   - every non-leaf op and every CONST reaches some output (dead code is
  *     gone); INDEP and PARAM ops are kept whether used or not;
- *   - dep[i] has bit g set iff op i depends on an independent of group g.
+ *   - dep[i] & TP_DEP_GROUPS has bit g set iff op i depends on an
+ *     independent of group g; an active binary op flags a passive operand
+ *     with TP_DEP_UPASSIVE or TP_DEP_TPASSIVE;
+ *   - ADD, SUB and MUL never have both operands in one slot (the recorder
+ *     records 2x, 0 and x^2 instead), so their operand rows are distinct.
  */
 #ifndef TAPE_INTERNAL_H
 #define TAPE_INTERNAL_H
@@ -23,7 +31,15 @@
 #include "tape/tape.h"
 #include "tape_ops.h"
 
-#define TP_MAX_GROUPS 8
+#define TP_MAX_GROUPS 6
+/* The dep byte of an op: the groups it depends on (low bits) and, for a
+ * binary op that depends on some group, which operand (if any) is passive:
+ * sweeps never write a derivative row or adjoint of a passive slot. */
+#define TP_DEP_GROUPS 0x3fu
+#define TP_DEP_UPASSIVE 0x40u
+#define TP_DEP_TPASSIVE 0x80u
+/* Direction rows are padded to a multiple of this many columns. */
+#define TP_LANES 4
 #define TP_MSG_LEN 256
 /* Slot indices are 32-bit; leave room for "no slot". */
 #define TP_MAX_OPS (UINT32_MAX / 2u)
@@ -126,6 +142,7 @@ struct tp_tape {
     uint32_t n_param;
     uint32_t n_out;
     uint32_t n_const;
+    uint32_t first_active; /* slots below hold leaves and passive ops */
     uint8_t *opc;      /* [n_ops] opcode */
     uint8_t *dep;      /* [n_ops] group mask */
     uint32_t *a0;      /* [n_ops] first operand / leaf index */
@@ -162,17 +179,20 @@ int tp__tape_build(const tp_rawtape *raw, const tp_allocator *al,
 struct tp_ws {
     const tp_tape *t;
     tp_allocator al;
-    int P;            /* row stride of the direction arrays = max_dirs */
+    int P;            /* row stride: max_dirs rounded up to TP_LANES */
+    int max_dirs;     /* directions per sweep (chunk size) */
     double *v;        /* [n_ops] values */
     double *aux;      /* [n_ops] auxiliary values (op_math.h) */
     double *adj;      /* [n_ops] adjoints; all zero between sweeps */
     double *tan;      /* [n_ops * P] tangents, row i = slot i */
     double *atan;     /* [n_ops * P] adjoint tangents; zero between sweeps */
+    uint8_t *anz;     /* [n_ops] 0: that atan row is known to be zero */
     double *d1, *d2;  /* [n_ops] Taylor coefficients */
     double *param;    /* [n_param] parameter values in use */
     double *hs;       /* [n_indep * P] scratch for Hessian columns */
     double *g;        /* [n_indep] scratch for gradients */
     double *wout;     /* [n_out] scratch for output weights */
+    bool passive_stale; /* v of the passive ops needs recomputing */
     unsigned tan_mask; /* rows of ops outside this dependency mask are zero */
     int tan_cols;      /* columns of active rows that may be non-zero */
     char msg[TP_MSG_LEN];
@@ -190,6 +210,8 @@ void tp__rev1(tp_ws *ws, const double *w, uint32_t end, double *g);
 void tp__rev2(tp_ws *ws, const double *w, int p, unsigned mask, uint32_t end,
               double *g, double *HS, size_t ldh);
 void tp__taylor2(tp_ws *ws, const double *x, const double *d, uint32_t end);
+/* Recompute the passive prefix of v if a parameter changed (forward.c). */
+void tp__ensure_passive(tp_ws *ws);
 /* The dependency mask of a seed (groups of independents it touches). */
 unsigned tp__seed_mask(const tp_tape *t, int p, const double *S, size_t lds,
                        int first);

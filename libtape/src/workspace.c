@@ -18,6 +18,7 @@ static void ws_release(tp_ws *ws)
     tp__free(&al, ws->adj, n * sizeof(double));
     tp__free(&al, ws->tan, n * P * sizeof(double));
     tp__free(&al, ws->atan, n * P * sizeof(double));
+    tp__free(&al, ws->anz, n);
     tp__free(&al, ws->d1, n * sizeof(double));
     tp__free(&al, ws->d2, n * sizeof(double));
     if (T) {
@@ -42,8 +43,10 @@ int tp_ws_new(tp_ws **out, const tp_tape *t, int max_dirs,
         return TP_ERR_NULL;
     if (max_dirs < 1)
         return TP_ERR_SIZE;
+    if (max_dirs > (1 << 20))
+        return TP_ERR_SIZE;
     n = t->n_ops;
-    P = (size_t)max_dirs;
+    P = ((size_t)max_dirs + TP_LANES - 1) / TP_LANES * TP_LANES;
     if (tp__mulsz(tp__mulsz(n, P), sizeof(double)) == SIZE_MAX)
         return TP_ERR_TOOBIG;
     ws = tp__calloc(&a, 1, sizeof *ws);
@@ -51,19 +54,21 @@ int tp_ws_new(tp_ws **out, const tp_tape *t, int max_dirs,
         return TP_ERR_NOMEM;
     ws->al = a;
     ws->t = t;
-    ws->P = max_dirs;
+    ws->P = (int)P;
+    ws->max_dirs = max_dirs;
     ws->v = tp__calloc(&a, n, sizeof(double));
     ws->aux = tp__calloc(&a, n, sizeof(double));
     ws->adj = tp__calloc(&a, n, sizeof(double));
     ws->tan = tp__calloc(&a, n * P, sizeof(double));
     ws->atan = tp__calloc(&a, n * P, sizeof(double));
+    ws->anz = tp__calloc(&a, n, 1);
     ws->d1 = tp__calloc(&a, n, sizeof(double));
     ws->d2 = tp__calloc(&a, n, sizeof(double));
     ws->param = tp__calloc(&a, t->n_param, sizeof(double));
     ws->hs = tp__calloc(&a, (size_t)t->n_indep * P, sizeof(double));
     ws->wout = tp__calloc(&a, t->n_out, sizeof(double));
     ws->g = tp__calloc(&a, t->n_indep, sizeof(double));
-    if (!ws->v || !ws->aux || !ws->adj || !ws->tan || !ws->atan || !ws->d1 ||
+    if (!ws->v || !ws->aux || !ws->adj || !ws->tan || !ws->atan || !ws->anz || !ws->d1 ||
         !ws->d2 || !ws->param || !ws->hs || !ws->wout ||
         !ws->g) {
         ws_release(ws);
@@ -71,6 +76,7 @@ int tp_ws_new(tp_ws **out, const tp_tape *t, int max_dirs,
     }
     if (t->n_param)
         memcpy(ws->param, t->param_dflt, t->n_param * sizeof(double));
+    ws->passive_stale = true;
     *out = ws;
     return TP_OK;
 }
@@ -99,6 +105,7 @@ int tp_ws_set_param(tp_ws *ws, int k, double value)
         return TP_ERR_SIZE;
     }
     ws->param[k] = value;
+    ws->passive_stale = true;
     return TP_OK;
 }
 

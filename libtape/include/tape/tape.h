@@ -108,7 +108,7 @@ typedef struct tp_val {
 typedef int (*tp_func)(tp_rec *r, void *user);
 
 /* Create a recorder for a function of n_indep independent variables.
- * group[i] in 0..7 assigns independent i to a dependency group (NULL: all in
+ * group[i] in 0..5 assigns independent i to a dependency group (NULL: all in
  * group 0). Sweeps use the groups to skip derivative work that is
  * structurally zero: for a Lagrangian, put q in group 0 and qd in group 1. */
 TP_API int tp_recorder_new(tp_rec **out, int n_indep,
