@@ -132,8 +132,15 @@ static tp_val make_val(tp_rec *r, uint32_t id)
 
 tp_val tp__rec_op(tp_rec *r, int op, tp_val a, tp_val b, double c)
 {
-    const char *fn = tp__opinfo[op].name;
+    /* the public name of every op is tp_ + its table name in lower case */
+    char fn[24] = "tp_";
+    const char *name = tp__opinfo[op].name;
     int kind = tp__opinfo[op].kind;
+    size_t k;
+    for (k = 0; name[k] && k + 4 < sizeof fn; k++)
+        fn[3 + k] = (char)(name[k] >= 'A' && name[k] <= 'Z'
+                               ? name[k] - 'A' + 'a' : name[k]);
+    fn[3 + k] = '\0';
     if (!r || !writable(r, fn) || !check_val(r, a, fn, 1))
         return invalid_val;
     if (kind == TP_KIND_BINARY) {
