@@ -1,0 +1,317 @@
+/* eom.h - public API of libeom, the Lagrangian compiler.
+ *
+ * A model names its generalized coordinates and parameters and gives its
+ * energies as recording callbacks: the kinetic energy T(q, qd) and the
+ * potential V(q) (or a whole Lagrangian L(q, qd)), optionally a Rayleigh
+ * dissipation function R(q, qd), generalized forces Q(q, qd, t), holonomic
+ * constraints phi(q) = 0 and named probes. eom_system_new records every
+ * callback once onto tapes; from then on each evaluation replays the tapes
+ * and solves Lagrange's equations
+ *
+ *     M qdd = dL/dq - (d2L/dqd dq) qd - dR/dqd + Q + C^T lambda
+ *     C qdd = -(d2phi/dq2)[qd, qd]   (+ Baumgarte terms if enabled)
+ *
+ * with M = d2L/dqd2 and C = dphi/dq, by the range-space method (Cholesky
+ * of M, KLU of S = C M^-1 C^T). Sign convention: the generalized
+ * constraint force is C^T lambda, added to the applied forces.
+ *
+ * State vectors are x = (q, qd), 2n values. Conventions as in libtape:
+ * status 0 success, > 0 warning, < 0 error; constructors write through
+ * T **out; destructors take T ** and set it to NULL; matrices are dense
+ * row-major; the library never aborts and keeps no process-wide state.
+ * A system and its integrators belong to one thread at a time.
+ */
+#ifndef EOM_EOM_H
+#define EOM_EOM_H
+
+#include <stddef.h>
+
+#include "tape/tape.h"
+
+#if defined(__GNUC__) && !defined(_WIN32)
+#define EOM_API __attribute__((visibility("default")))
+#else
+#define EOM_API
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- status codes ----------------------------------------------------- */
+
+#define EOM_STATUS_LIST(X)                                                     \
+    X(EOM_OK, 0, "success")                                                    \
+    X(EOM_ERR_NULL, -1, "a required pointer argument is NULL")                 \
+    X(EOM_ERR_NOMEM, -2, "out of memory")                                      \
+    X(EOM_ERR_ARG, -3, "an argument is out of range or malformed")             \
+    X(EOM_ERR_NAME, -4, "a name is unknown, empty, malformed or declared "     \
+                        "twice")                                               \
+    X(EOM_ERR_MODEL, -5, "the model is incomplete or inconsistent")            \
+    X(EOM_ERR_RECORD, -6, "recording a model callback failed")                 \
+    X(EOM_ERR_NONFINITE, -7, "a state, parameter or computed quantity is "     \
+                             "NaN or infinite")                                \
+    X(EOM_ERR_SINGULAR_MASS, -8, "the mass matrix is not positive definite")   \
+    X(EOM_ERR_RANK_DEFICIENT, -9, "the constraint Jacobian is rank "           \
+                                  "deficient: C M^-1 C^T is singular")         \
+    X(EOM_ERR_PROJECTION, -10, "projection onto the constraints did not "      \
+                               "converge")                                     \
+    X(EOM_ERR_SOLVER, -11, "the integrator failed (the message names the "     \
+                           "solver's flag)")                                   \
+    X(EOM_ERR_LINALG, -12, "a linear-algebra routine failed")                  \
+    X(EOM_ERR_NOT_CONVERGED, -13, "an iteration did not converge")
+
+typedef enum eom_status {
+#define EOM_STATUS_ENUM_(name, value, text) name = value,
+    EOM_STATUS_LIST(EOM_STATUS_ENUM_)
+#undef EOM_STATUS_ENUM_
+} eom_status;
+
+EOM_API const char *eom_strerror(int status);
+EOM_API const char *eom_status_name(int status);
+
+/* ---- models ----------------------------------------------------------- */
+
+typedef struct eom_model eom_model;
+
+/* While a callback records, it receives the recording context: */
+typedef struct eom_ctx eom_ctx;
+
+/* A scalar energy (T, V, L, R or a probe): set *out. A vector callback
+ * (constraints, forces) sets out[0 .. count-1]. Return 0, or non-zero to
+ * abort recording (EOM_ERR_RECORD). */
+typedef int (*eom_scalar_fn)(eom_ctx *c, void *user, tp_val *out);
+typedef int (*eom_vector_fn)(eom_ctx *c, void *user, tp_val *out);
+
+EOM_API int eom_model_new(eom_model **out);
+EOM_API void eom_model_free(eom_model **m);
+/* The model's message about its first error ("" if none). */
+EOM_API const char *eom_model_errmsg(const eom_model *m);
+
+/* Names are C identifiers (letters, digits, '_', not starting with a
+ * digit), unique among coordinates and parameters, and not ending in
+ * "_dot". unit may be NULL. q0 and qd0 are the default initial value and
+ * rate. Returns the new coordinate's index, or a negative status. */
+EOM_API int eom_model_add_coord(eom_model *m, const char *name,
+                                const char *unit, double q0, double qd0);
+/* A parameter: a value that may change without re-recording. Returns its
+ * index, or a negative status. description may be NULL. */
+EOM_API int eom_model_add_param(eom_model *m, const char *name,
+                                const char *unit, double dflt,
+                                const char *description);
+
+/* Energies: either T and V (V may be omitted: zero), or a Lagrangian L.
+ * Each callback is kept by pointer with its user pointer (borrowed until
+ * eom_system_new returns). */
+EOM_API int eom_model_set_kinetic(eom_model *m, eom_scalar_fn T, void *user);
+EOM_API int eom_model_set_potential(eom_model *m, eom_scalar_fn V,
+                                    void *user);
+EOM_API int eom_model_set_lagrangian(eom_model *m, eom_scalar_fn L,
+                                     void *user);
+/* Rayleigh dissipation R(q, qd): generalized force -dR/dqd. */
+EOM_API int eom_model_set_dissipation(eom_model *m, eom_scalar_fn R,
+                                      void *user);
+/* Generalized forces Q(q, qd, t): n values (eom_time is available). */
+EOM_API int eom_model_set_forces(eom_model *m, eom_vector_fn Q, void *user);
+/* Holonomic constraints phi(q) = 0: count values of q only (reading qd
+ * or the time in this callback is an error). */
+EOM_API int eom_model_set_constraints(eom_model *m, int count,
+                                      eom_vector_fn phi, void *user);
+/* A named scalar of (q, qd) reported beside the energies (for example
+ * the flexible part of a link's kinetic energy). */
+EOM_API int eom_model_add_probe(eom_model *m, const char *name,
+                                const char *unit, eom_scalar_fn f,
+                                void *user);
+
+/* Inside a callback: the recording context (for tp_* operations), the
+ * coordinates, rates, time and parameters as recorded values. A bad index
+ * or unknown parameter name gives an invalid value and makes recording
+ * fail with a message naming it. */
+EOM_API tp_rec *eom_rec(eom_ctx *c);
+EOM_API int eom_ncoords(const eom_ctx *c);
+EOM_API tp_val eom_q(eom_ctx *c, int i);
+EOM_API tp_val eom_qd(eom_ctx *c, int i);
+EOM_API tp_val eom_time(eom_ctx *c);
+EOM_API tp_val eom_param(eom_ctx *c, const char *name);
+
+/* ---- systems ---------------------------------------------------------- */
+
+typedef struct eom_system eom_system;
+
+/* Record every callback of m once and prepare the solvers. The system
+ * keeps its own copy of names, units and defaults; m may be freed after.
+ * On failure *out is NULL and, if errmsg is not NULL, a description is
+ * written to errmsg (errmsg_len bytes). */
+EOM_API int eom_system_new(eom_system **out, const eom_model *m,
+                           char *errmsg, size_t errmsg_len);
+EOM_API void eom_system_free(eom_system **s);
+/* Message about the last error of a call on s ("" after a success). */
+EOM_API const char *eom_system_errmsg(const eom_system *s);
+
+EOM_API int eom_system_ncoords(const eom_system *s);
+EOM_API int eom_system_nconstraints(const eom_system *s);
+EOM_API int eom_system_nparams(const eom_system *s);
+EOM_API int eom_system_nprobes(const eom_system *s);
+/* 1 if T and V were given separately (so both are reported), else 0. */
+EOM_API int eom_system_has_tv(const eom_system *s);
+EOM_API int eom_system_has_dissipation(const eom_system *s);
+
+/* Names, units (never NULL: "" when none), defaults. NULL / NaN when the
+ * index is out of range. */
+EOM_API const char *eom_coord_name(const eom_system *s, int i);
+EOM_API const char *eom_coord_unit(const eom_system *s, int i);
+EOM_API const char *eom_param_name(const eom_system *s, int k);
+EOM_API const char *eom_param_unit(const eom_system *s, int k);
+EOM_API const char *eom_param_description(const eom_system *s, int k);
+EOM_API double eom_param_default(const eom_system *s, int k);
+EOM_API const char *eom_probe_name(const eom_system *s, int k);
+EOM_API const char *eom_probe_unit(const eom_system *s, int k);
+/* Index by name, or -1. */
+EOM_API int eom_coord_index(const eom_system *s, const char *name);
+EOM_API int eom_param_index(const eom_system *s, const char *name);
+
+/* Parameter values in use (they start at their defaults). Non-finite
+ * values are rejected (EOM_ERR_NONFINITE). */
+EOM_API int eom_set_param(eom_system *s, int k, double value);
+EOM_API double eom_get_param(const eom_system *s, int k);
+
+/* The default initial state x0 = (q0, qd0) of the model (2n values). */
+EOM_API int eom_initial_state(const eom_system *s, double *x);
+
+/* Baumgarte stabilization of the constraints at acceleration level:
+ * C qdd = gamma - 2 alpha (C qd) - beta^2 phi. Both 0 (the default)
+ * turns it off. alpha, beta >= 0, in 1/s. */
+EOM_API int eom_set_baumgarte(eom_system *s, double alpha, double beta);
+
+/* ---- evaluation at a state -------------------------------------------- */
+
+/* The right-hand side: xd = (qd, qdd) at time t and state x (2n). Any of
+ * the results of the same evaluation may then be read with the accessors
+ * below at no extra cost. Errors: EOM_ERR_NONFINITE (non-finite x or
+ * result), EOM_ERR_SINGULAR_MASS, EOM_ERR_RANK_DEFICIENT. */
+EOM_API int eom_rhs(eom_system *s, double t, const double *x, double *xd);
+
+/* Quantities at a state; each evaluates what it needs. */
+EOM_API int eom_mass_matrix(eom_system *s, const double *x, double *M);
+/* C = dphi/dq (m x n) and phi (m, may be NULL) at q = x[0..n). */
+EOM_API int eom_constraint_jacobian(eom_system *s, const double *x,
+                                    double *C, double *phi);
+/* The multipliers lambda (m) at (t, x): the generalized constraint force
+ * is C^T lambda. */
+EOM_API int eom_multipliers(eom_system *s, double t, const double *x,
+                            double *lambda);
+/* Constraint residuals: phi (m) and the velocity residual C qd (m);
+ * either may be NULL. */
+EOM_API int eom_residuals(eom_system *s, const double *x, double *phi,
+                          double *phidot);
+/* Reciprocal condition estimates (1-norm, LAPACK dpocon and KLU's rcond)
+ * of M and of S = C M^-1 C^T at x; rcond_S is 1 without constraints. */
+EOM_API int eom_condition(eom_system *s, const double *x, double *rcond_M,
+                          double *rcond_S);
+
+typedef struct eom_energy {
+    double T, V;  /* NaN when the model gave a whole Lagrangian */
+    double L;     /* the Lagrangian */
+    double E;     /* Jacobi integral qd . dL/dqd - L (= T + V for natural
+                     systems) */
+    double P;     /* power of the non-conservative forces:
+                     qd . (-dR/dqd + Q) (<= 0 when only dissipating) */
+} eom_energy;
+EOM_API int eom_energy_at(eom_system *s, double t, const double *x,
+                          eom_energy *e);
+/* Values of the probes (nprobes values). */
+EOM_API int eom_probes_at(eom_system *s, const double *x, double *p);
+
+/* Project x onto phi(q) = 0 and C qd = 0 with the minimum M-norm
+ * correction (Newton iteration on q, until max |phi| <= tol; then one
+ * linear correction of qd). *iters (may be NULL) receives the number of
+ * iterations. EOM_ERR_PROJECTION if it does not converge in 20. */
+EOM_API int eom_project(eom_system *s, double *x, double tol, int *iters);
+
+/* ---- linearization ---------------------------------------------------- */
+
+/* Linearization about an equilibrium q (qd = 0): M, the stiffness
+ * K = -d2L/dq2 - sum_k lambda_k d2phi_k/dq2 and the damping D =
+ * d2R/dqd2 (each n x n), reduced to the null space of C (nr = n - rank
+ * C coordinates), and the natural frequencies omega (rad/s, ascending) of
+ * K v = omega^2 M v on that null space. The multipliers are those that
+ * hold the system at rest at q. */
+typedef struct eom_linear {
+    int n, nr;       /* coordinates, and independent ones */
+    double *M, *K, *D; /* n x n */
+    double *N;       /* n x nr: orthonormal basis of the null space of C */
+    double *Mr, *Kr, *Dr; /* nr x nr reduced matrices */
+    double *omega;   /* nr natural frequencies; a negative value -w means
+                        an unstable direction with K v = -w^2 M v */
+    double *modes;   /* n x nr mode shapes in the full coordinates */
+} eom_linear;
+EOM_API int eom_linearize(eom_system *s, const double *q, eom_linear *lin);
+EOM_API void eom_linear_free(eom_linear *lin);
+
+/* Static equilibrium: from q (n, updated in place), Newton iteration on
+ * dV/dq - C^T lambda = 0, phi = 0 with the tape's second derivatives, to
+ * max |residual| <= tol. */
+EOM_API int eom_equilibrium(eom_system *s, double *q, double tol,
+                            int *iters);
+
+/* ---- integration ------------------------------------------------------ */
+
+typedef enum eom_method {
+    EOM_RK4,   /* fixed-step classical Runge-Kutta (the paper's) */
+    EOM_ERK,   /* ARKODE ERKStep, adaptive explicit, 8th order (Verner) */
+    EOM_ADAMS, /* CVODE Adams-Moulton, fixed-point iteration */
+    EOM_BDF,   /* CVODE BDF, Newton iteration with a dense Jacobian */
+    EOM_IDA    /* IDA on the index-1 form (see docs/theory.md) */
+} eom_method;
+
+/* Name as used on the command line ("rk4", "erk", "adams", "bdf", "ida")
+ * and back (-1 for an unknown name). */
+EOM_API const char *eom_method_name(eom_method m);
+EOM_API int eom_method_from_name(const char *name);
+
+typedef struct eom_opts {
+    eom_method method;
+    double dt;        /* RK4: the step; others: the first step (0: auto) */
+    double rtol, atol; /* adaptive methods */
+    long max_steps;   /* per call of eom_integ_advance (default 1e7) */
+    int project;      /* project onto the constraints after each step
+                         (default 1; ignored without constraints) */
+    double proj_tol;  /* projection tolerance on |phi| (default 1e-12) */
+} eom_opts;
+
+/* Defaults: RK4 with dt = 1e-3, rtol = 1e-8, atol = 1e-10. */
+EOM_API void eom_opts_default(eom_opts *o);
+
+typedef struct eom_stats {
+    long steps;          /* accepted steps */
+    long rhs_evals;      /* right-hand-side evaluations, all causes */
+    long failures;       /* error-test and convergence failures */
+    long jac_evals;      /* Jacobian evaluations (BDF, IDA) */
+    long projections;    /* projections applied */
+    double wall_time;    /* seconds spent in eom_integ_advance */
+    double max_residual; /* largest |phi| seen after a step */
+} eom_stats;
+
+typedef struct eom_integ eom_integ;
+
+/* An integrator for s from (t0, x0); W, the work done on the system by
+ * its non-conservative forces with the sign that makes E + W constant
+ * (W >= 0 is the energy dissipated), starts at 0 and is integrated beside
+ * the state. The integrator borrows s. */
+EOM_API int eom_integ_new(eom_integ **out, eom_system *s, const eom_opts *o,
+                          double t0, const double *x0);
+EOM_API void eom_integ_free(eom_integ **it);
+EOM_API const char *eom_integ_errmsg(const eom_integ *it);
+
+/* Advance to exactly tout > current time; x (2n) and W receive the state
+ * there (W may be NULL). On a solver failure, returns EOM_ERR_SOLVER with
+ * the solver's flag name and time in the message, and x holds the last
+ * good state. */
+EOM_API int eom_integ_advance(eom_integ *it, double tout, double *x,
+                              double *W);
+EOM_API int eom_integ_stats(const eom_integ *it, eom_stats *st);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* EOM_EOM_H */

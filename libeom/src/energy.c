@@ -1,0 +1,74 @@
+/* energy.c - the energies of a state: the Jacobi integral E = qd . dL/dqd
+ * - L from the Lagrangian's tape (no user help needed: it equals T + V for
+ * a natural system), T and V separately when the model gave them, the
+ * power of the non-conservative forces, and the probes. */
+#include <math.h>
+#include <string.h>
+
+#include "eom_internal.h"
+
+int eom_energy_at(eom_system *s, double t, const double *x, eom_energy *e)
+{
+    const int n = s ? s->n : 0;
+    double L;
+    int st, rc, i;
+    if (!s)
+        return EOM_ERR_NULL;
+    if (!x || !e)
+        return eom__fail(s, EOM_ERR_NULL, "eom_energy_at: NULL argument");
+    if (!isfinite(t) || !eom__finite(x, 2 * (size_t)n))
+        return eom__fail(s, EOM_ERR_NONFINITE,
+                         "the state at t = %g is not finite", t);
+    st = tp_gradient(s->tL.ws, x, 0, &L, s->wn);
+    if ((rc = eom__tape_status(s, st, "the Lagrangian or its gradient")))
+        return rc;
+    e->L = L;
+    e->E = -L;
+    for (i = 0; i < n; i++)
+        e->E += x[n + i] * s->wn[n + i];
+    e->T = e->V = NAN;
+    if (s->has_tv) {
+        st = tp_eval(s->tE.ws, x, s->wE);
+        if ((rc = eom__tape_status(s, st, "the kinetic or potential energy")))
+            return rc;
+        e->T = s->wE[0];
+        e->V = s->wE[1];
+    }
+    e->P = 0.0;
+    if (s->has_R) {
+        st = tp_gradient(s->tR.ws, x, 0, NULL, s->gR);
+        if ((rc = eom__tape_status(s, st, "the gradient of the dissipation")))
+            return rc;
+        for (i = 0; i < n; i++)
+            e->P -= x[n + i] * s->gR[n + i];
+    }
+    if (s->has_Q) {
+        memcpy(s->xq, x, 2 * (size_t)n * sizeof(double));
+        s->xq[2 * n] = t;
+        st = tp_eval(s->tQ.ws, s->xq, s->Qv);
+        if ((rc = eom__tape_status(s, st, "a generalized force")))
+            return rc;
+        for (i = 0; i < n; i++)
+            e->P += x[n + i] * s->Qv[i];
+    }
+    return EOM_OK;
+}
+
+int eom_probes_at(eom_system *s, const double *x, double *p)
+{
+    int st, rc;
+    if (!s)
+        return EOM_ERR_NULL;
+    if (s->nprobe == 0)
+        return EOM_OK;
+    if (!x || !p)
+        return eom__fail(s, EOM_ERR_NULL, "eom_probes_at: NULL argument");
+    if (!eom__finite(x, 2 * (size_t)s->n))
+        return eom__fail(s, EOM_ERR_NONFINITE, "the state is not finite");
+    st = tp_eval(s->tE.ws, x, s->wE);
+    if ((rc = eom__tape_status(s, st, "a probe")))
+        return rc;
+    /* the E tape holds T and V first when the model gave them */
+    memcpy(p, s->wE + (s->has_tv ? 2 : 0), (size_t)s->nprobe * sizeof(double));
+    return EOM_OK;
+}

@@ -1,0 +1,172 @@
+/* eom_internal.h - structures and internal prototypes of libeom. Not
+ * installed; white-box tests may include it.
+ *
+ * A system owns one tape per purpose, each with its own workspace, so an
+ * evaluation replays only what it needs:
+ *   L tape     x = (q, qd), groups q = 0, qd = 1; output "L" (T - V, or
+ *              the user's L). Lagrange blocks, energy.
+ *   E tape     x = (q, qd); outputs "T", "V" (when given separately) and
+ *              one per probe. Only for reporting.
+ *   R tape     x = (q, qd); output "R". dR/dqd by a reverse sweep.
+ *   Q tape     (q, qd, t), groups 0, 1, 2; n outputs. Zero-order sweep.
+ *   phi tape   q; m outputs. C by a forward Jacobian, gamma by one
+ *              second-order Taylor sweep along qd.
+ */
+#ifndef EOM_INTERNAL_H
+#define EOM_INTERNAL_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include <suitesparse/klu.h>
+
+#include "eom/eom.h"
+
+#define EOM_MSG_LEN 256
+
+/* ---- model ------------------------------------------------------------ */
+
+typedef struct eom_named {
+    char *name;
+    char *unit;
+    char *description;
+    double v0, v1; /* coordinate: q0, qd0; parameter: default */
+    eom_scalar_fn fn; /* probes */
+    void *user;
+} eom_named;
+
+typedef struct eom_callback {
+    union {
+        eom_scalar_fn scalar;
+        eom_vector_fn vector;
+    } fn;
+    void *user;
+    bool set;
+} eom_callback;
+
+struct eom_model {
+    eom_named *coords, *params, *probes;
+    int n_coords, n_params, n_probes;
+    int cap_coords, cap_params, cap_probes;
+    eom_callback T, V, L, R, Q, phi;
+    int n_con;
+    int status;
+    char msg[EOM_MSG_LEN];
+};
+
+/* Which callback a context is recording: decides the leaves it offers. */
+typedef enum eom_role {
+    EOM_ROLE_STATE, /* q, qd: T, V, L, R, probes */
+    EOM_ROLE_FORCE, /* q, qd, t */
+    EOM_ROLE_CONSTRAINT /* q only */
+} eom_role;
+
+struct eom_ctx {
+    tp_rec *r;
+    const eom_model *m;
+    eom_role role;
+    int n;
+    int status;       /* first error of this recording */
+    char msg[EOM_MSG_LEN];
+};
+
+/* ---- system ----------------------------------------------------------- */
+
+/* A tape, its workspace, and the workspace index of every system
+ * parameter (-1 when the tape does not use it). */
+typedef struct eom_tape {
+    tp_tape *tape;
+    tp_ws *ws;
+    int *pmap;
+} eom_tape;
+
+struct eom_system {
+    int n, m, np, nprobe;
+    bool has_tv, has_R, has_Q;
+    eom_named *coords, *params, *probes; /* copies (fn unused) */
+    double *pval;                        /* parameter values in use */
+    eom_tape tL, tE, tR, tQ, tphi;
+    double alpha, beta;                  /* Baumgarte */
+    char msg[EOM_MSG_LEN];
+
+    /* results of the last evaluation (rhs.c) */
+    double *M;     /* n x n mass matrix */
+    double *Mf;    /* n x n Cholesky factor (lower) */
+    double *g;     /* n  dL/dq */
+    double *h;     /* n  (d2L/dqd dq) qd */
+    double *F;     /* n  g - h - dR/dqd + Q */
+    double *qdd;   /* n */
+    double *gR;    /* 2n gradient of R */
+    double *Qv;    /* n  user forces */
+    double *xq;    /* 2n + 1: (q, qd, t) for the Q tape */
+    double *C;     /* m x n */
+    double *phi;   /* m */
+    double *phid;  /* m  C qd */
+    double *gam;   /* m  right side of C qdd = gam */
+    double *Y;     /* n x m  M^-1 C^T */
+    double *S;     /* m x m  C M^-1 C^T */
+    double *lam;   /* m */
+    double *wn, *wm; /* scratch n and m */
+    double *wE;      /* scratch for energy tape outputs */
+    double power;  /* qd . (-dR/dqd + Q) at the last evaluation */
+
+    /* KLU for S: dense pattern in compressed columns, analyzed once */
+    int *Sp, *Si;
+    double *Sx;
+    klu_common kc;
+    klu_symbolic *ksym;
+    klu_numeric *knum;
+    double rcond_S;   /* KLU's estimate at the last factorization */
+};
+
+/* rhs.c: evaluate everything the right-hand side needs at (t, x) and
+ * solve; leaves M, Mf, F, C, lam, qdd, power in s. */
+int eom__evaluate(eom_system *s, double t, const double *x);
+/* Factor s->M into s->Mf (Cholesky); EOM_ERR_SINGULAR_MASS on failure. */
+int eom__factor_mass(eom_system *s);
+/* Solve Mf Mf^T X = B in place, B n x nrhs column-major (a column is n
+ * contiguous values). */
+int eom__mass_solve(eom_system *s, double *B, int nrhs);
+/* Constraint Jacobian and values at q into s->C, s->phi. */
+int eom__constraints_at(eom_system *s, const double *q);
+/* Form S = C M^-1 C^T (also Y = M^-1 C^T) and factor it with KLU. */
+int eom__factor_S(eom_system *s);
+/* Solve S z = b in place (m values). */
+int eom__S_solve(eom_system *s, double *b);
+
+/* Status with a message in s (first argument printf-style). */
+int eom__fail(eom_system *s, int status, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+/* Map a libtape status to libeom's, with a message naming what. */
+int eom__tape_status(eom_system *s, int tp_status, const char *what);
+/* Every value finite? */
+bool eom__finite(const double *a, size_t n);
+
+/* ---- LAPACK (Fortran interface; hidden string lengths last) ----------- */
+
+void dpotrf_(const char *uplo, const int *n, double *a, const int *lda,
+             int *info, size_t uplo_len);
+void dpotrs_(const char *uplo, const int *n, const int *nrhs,
+             const double *a, const int *lda, double *b, const int *ldb,
+             int *info, size_t uplo_len);
+void dpocon_(const char *uplo, const int *n, const double *a,
+             const int *lda, const double *anorm, double *rcond,
+             double *work, int *iwork, int *info, size_t uplo_len);
+double dlansy_(const char *norm, const char *uplo, const int *n,
+               const double *a, const int *lda, double *work,
+               size_t norm_len, size_t uplo_len);
+void dsygv_(const int *itype, const char *jobz, const char *uplo,
+            const int *n, double *a, const int *lda, double *b,
+            const int *ldb, double *w, double *work, const int *lwork,
+            int *info, size_t jobz_len, size_t uplo_len);
+void dgesvd_(const char *jobu, const char *jobvt, const int *m,
+             const int *n, double *a, const int *lda, double *s, double *u,
+             const int *ldu, double *vt, const int *ldvt, double *work,
+             const int *lwork, int *info, size_t jobu_len, size_t jobvt_len);
+void dgesv_(const int *n, const int *nrhs, double *a, const int *lda,
+            int *ipiv, double *b, const int *ldb, int *info);
+
+#endif /* EOM_INTERNAL_H */

@@ -1,0 +1,341 @@
+/* model.c - building a model (coordinates, parameters, callbacks, probes)
+ * and the recording context handed to callbacks (eom_ctx). A model is a
+ * plain description: nothing is recorded until eom_system_new. */
+#include <ctype.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "eom_internal.h"
+
+const char *eom_strerror(int status)
+{
+    switch (status) {
+#define EOM_TEXT_(name, value, text) \
+    case value: return text;
+        EOM_STATUS_LIST(EOM_TEXT_)
+#undef EOM_TEXT_
+    default: return "unknown status";
+    }
+}
+
+const char *eom_status_name(int status)
+{
+    switch (status) {
+#define EOM_NAME_(name, value, text) \
+    case value: return #name;
+        EOM_STATUS_LIST(EOM_NAME_)
+#undef EOM_NAME_
+    default: return "EOM_UNKNOWN";
+    }
+}
+
+static int model_fail(eom_model *m, int status, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+
+static int model_fail(eom_model *m, int status, const char *fmt, ...)
+{
+    if (m->status == EOM_OK) {
+        va_list ap;
+        m->status = status;
+        va_start(ap, fmt);
+        vsnprintf(m->msg, sizeof m->msg, fmt, ap);
+        va_end(ap);
+    }
+    return status;
+}
+
+int eom_model_new(eom_model **out)
+{
+    if (!out)
+        return EOM_ERR_NULL;
+    *out = calloc(1, sizeof **out);
+    return *out ? EOM_OK : EOM_ERR_NOMEM;
+}
+
+static void free_named(eom_named *v, int n)
+{
+    int i;
+    for (i = 0; i < n; i++) {
+        free(v[i].name);
+        free(v[i].unit);
+        free(v[i].description);
+    }
+    free(v);
+}
+
+void eom_model_free(eom_model **m)
+{
+    if (!m || !*m)
+        return;
+    free_named((*m)->coords, (*m)->n_coords);
+    free_named((*m)->params, (*m)->n_params);
+    free_named((*m)->probes, (*m)->n_probes);
+    free(*m);
+    *m = NULL;
+}
+
+const char *eom_model_errmsg(const eom_model *m)
+{
+    return m ? m->msg : "NULL model";
+}
+
+static char *dup_or_empty(const char *s)
+{
+    size_t n = s ? strlen(s) : 0;
+    char *d = malloc(n + 1);
+    if (d) {
+        if (n)
+            memcpy(d, s, n);
+        d[n] = '\0';
+    }
+    return d;
+}
+
+/* A C identifier that does not end in "_dot" (reserved for rates). */
+static bool valid_name(const char *s)
+{
+    size_t i, n;
+    if (!s || !s[0] || !(isalpha((unsigned char)s[0]) || s[0] == '_'))
+        return false;
+    for (i = 1; s[i]; i++)
+        if (!(isalnum((unsigned char)s[i]) || s[i] == '_'))
+            return false;
+    n = i;
+    return !(n >= 4 && strcmp(s + n - 4, "_dot") == 0);
+}
+
+static int find(const eom_named *v, int n, const char *name)
+{
+    int i;
+    for (i = 0; i < n; i++)
+        if (strcmp(v[i].name, name) == 0)
+            return i;
+    return -1;
+}
+
+/* Append an entry to one of the model's lists; its index or a status. */
+static int add_named(eom_model *m, eom_named **v, int *n, int *cap,
+                     const char *kind, const char *name, const char *unit,
+                     const char *desc)
+{
+    eom_named e;
+    if (!valid_name(name))
+        return model_fail(m, EOM_ERR_NAME,
+                          "%s name '%s' is not a C identifier (or ends in "
+                          "_dot)", kind, name ? name : "(null)");
+    if (find(m->coords, m->n_coords, name) >= 0 ||
+        find(m->params, m->n_params, name) >= 0 ||
+        find(m->probes, m->n_probes, name) >= 0)
+        return model_fail(m, EOM_ERR_NAME, "%s name '%s' is already used",
+                          kind, name);
+    if (*n == *cap) {
+        int nc = *cap ? 2 * *cap : 8;
+        eom_named *nv = realloc(*v, (size_t)nc * sizeof *nv);
+        if (!nv)
+            return model_fail(m, EOM_ERR_NOMEM, "out of memory");
+        *v = nv;
+        *cap = nc;
+    }
+    memset(&e, 0, sizeof e);
+    e.name = dup_or_empty(name);
+    e.unit = dup_or_empty(unit);
+    e.description = dup_or_empty(desc);
+    if (!e.name || !e.unit || !e.description) {
+        free(e.name);
+        free(e.unit);
+        free(e.description);
+        return model_fail(m, EOM_ERR_NOMEM, "out of memory");
+    }
+    (*v)[*n] = e;
+    return (*n)++;
+}
+
+int eom_model_add_coord(eom_model *m, const char *name, const char *unit,
+                        double q0, double qd0)
+{
+    int k;
+    if (!m)
+        return EOM_ERR_NULL;
+    if (!isfinite(q0) || !isfinite(qd0))
+        return model_fail(m, EOM_ERR_NONFINITE,
+                          "coordinate '%s': initial value or rate is not "
+                          "finite", name ? name : "(null)");
+    k = add_named(m, &m->coords, &m->n_coords, &m->cap_coords, "coordinate",
+                  name, unit, NULL);
+    if (k >= 0) {
+        m->coords[k].v0 = q0;
+        m->coords[k].v1 = qd0;
+    }
+    return k;
+}
+
+int eom_model_add_param(eom_model *m, const char *name, const char *unit,
+                        double dflt, const char *description)
+{
+    int k;
+    if (!m)
+        return EOM_ERR_NULL;
+    if (!isfinite(dflt))
+        return model_fail(m, EOM_ERR_NONFINITE,
+                          "parameter '%s': default is not finite",
+                          name ? name : "(null)");
+    k = add_named(m, &m->params, &m->n_params, &m->cap_params, "parameter",
+                  name, unit, description);
+    if (k >= 0)
+        m->params[k].v0 = dflt;
+    return k;
+}
+
+int eom_model_add_probe(eom_model *m, const char *name, const char *unit,
+                        eom_scalar_fn f, void *user)
+{
+    int k;
+    if (!m)
+        return EOM_ERR_NULL;
+    if (!f)
+        return model_fail(m, EOM_ERR_NULL, "probe '%s': function is NULL",
+                          name ? name : "(null)");
+    k = add_named(m, &m->probes, &m->n_probes, &m->cap_probes, "probe",
+                  name, unit, NULL);
+    if (k >= 0) {
+        m->probes[k].fn = f;
+        m->probes[k].user = user;
+    }
+    return k;
+}
+
+static int set_scalar(eom_model *m, eom_callback *cb, eom_scalar_fn f,
+                      void *user, const char *what)
+{
+    if (!m)
+        return EOM_ERR_NULL;
+    if (!f)
+        return model_fail(m, EOM_ERR_NULL, "%s function is NULL", what);
+    cb->fn.scalar = f;
+    cb->user = user;
+    cb->set = true;
+    return EOM_OK;
+}
+
+int eom_model_set_kinetic(eom_model *m, eom_scalar_fn T, void *user)
+{
+    return set_scalar(m, m ? &m->T : NULL, T, user, "kinetic energy");
+}
+
+int eom_model_set_potential(eom_model *m, eom_scalar_fn V, void *user)
+{
+    return set_scalar(m, m ? &m->V : NULL, V, user, "potential energy");
+}
+
+int eom_model_set_lagrangian(eom_model *m, eom_scalar_fn L, void *user)
+{
+    return set_scalar(m, m ? &m->L : NULL, L, user, "Lagrangian");
+}
+
+int eom_model_set_dissipation(eom_model *m, eom_scalar_fn R, void *user)
+{
+    return set_scalar(m, m ? &m->R : NULL, R, user, "dissipation");
+}
+
+int eom_model_set_forces(eom_model *m, eom_vector_fn Q, void *user)
+{
+    if (!m)
+        return EOM_ERR_NULL;
+    if (!Q)
+        return model_fail(m, EOM_ERR_NULL, "force function is NULL");
+    m->Q.fn.vector = Q;
+    m->Q.user = user;
+    m->Q.set = true;
+    return EOM_OK;
+}
+
+int eom_model_set_constraints(eom_model *m, int count, eom_vector_fn phi,
+                              void *user)
+{
+    if (!m)
+        return EOM_ERR_NULL;
+    if (!phi)
+        return model_fail(m, EOM_ERR_NULL, "constraint function is NULL");
+    if (count < 1 || count > 100000)
+        return model_fail(m, EOM_ERR_ARG, "constraint count %d", count);
+    m->phi.fn.vector = phi;
+    m->phi.user = user;
+    m->phi.set = true;
+    m->n_con = count;
+    return EOM_OK;
+}
+
+/* ---- the recording context -------------------------------------------- */
+
+static tp_val ctx_bad(eom_ctx *c, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
+static tp_val ctx_bad(eom_ctx *c, const char *fmt, ...)
+{
+    static const tp_val bad = {UINT32_MAX, 0};
+    if (c && c->status == EOM_OK) {
+        va_list ap;
+        c->status = EOM_ERR_RECORD;
+        va_start(ap, fmt);
+        vsnprintf(c->msg, sizeof c->msg, fmt, ap);
+        va_end(ap);
+    }
+    return bad;
+}
+
+tp_rec *eom_rec(eom_ctx *c) { return c ? c->r : NULL; }
+
+int eom_ncoords(const eom_ctx *c) { return c ? c->n : 0; }
+
+tp_val eom_q(eom_ctx *c, int i)
+{
+    if (!c)
+        return ctx_bad(c, "eom_q: NULL context");
+    if (i < 0 || i >= c->n)
+        return ctx_bad(c, "eom_q: coordinate %d outside 0 .. %d", i,
+                       c->n - 1);
+    return tp_indep(c->r, i);
+}
+
+tp_val eom_qd(eom_ctx *c, int i)
+{
+    if (!c)
+        return ctx_bad(c, "eom_qd: NULL context");
+    if (c->role == EOM_ROLE_CONSTRAINT)
+        return ctx_bad(c, "eom_qd: constraints may depend on q only");
+    if (i < 0 || i >= c->n)
+        return ctx_bad(c, "eom_qd: coordinate %d outside 0 .. %d", i,
+                       c->n - 1);
+    return tp_indep(c->r, c->n + i);
+}
+
+tp_val eom_time(eom_ctx *c)
+{
+    if (!c)
+        return ctx_bad(c, "eom_time: NULL context");
+    if (c->role != EOM_ROLE_FORCE)
+        return ctx_bad(c, "eom_time: only generalized forces may depend "
+                          "on time");
+    return tp_indep(c->r, 2 * c->n);
+}
+
+tp_val eom_param(eom_ctx *c, const char *name)
+{
+    int k;
+    if (!c)
+        return ctx_bad(c, "eom_param: NULL context");
+    k = name ? find(c->m->params, c->m->n_params, name) : -1;
+    if (k < 0)
+        return ctx_bad(c, "eom_param: no parameter named '%s'",
+                       name ? name : "(null)");
+    return tp_param(c->r, name, c->m->params[k].v0);
+}

@@ -1,0 +1,343 @@
+/* rhs.c - the right-hand side: Lagrange's equations solved for the
+ * accelerations (and the multipliers of the constraints) by the
+ * range-space method, and the accessors that read one evaluation.
+ *
+ *   F   = dL/dq - (d2L/dqd dq) qd - dR/dqd + Q
+ *   M   = LL^T                                    (LAPACK dpotrf)
+ *   Y   = M^-1 C^T,  S = C Y                     (S: KLU, analyzed once,
+ *                                                 refactored per call)
+ *   S lambda = gamma - C M^-1 F,  gamma = -(d2phi/dq2)[qd, qd]
+ *              - 2 alpha C qd - beta^2 phi       (Baumgarte, if enabled)
+ *   qdd = M^-1 F + Y lambda
+ *
+ * Storage: M is symmetric, so its row-major array is also LAPACK's
+ * column-major one. C (m x n, row-major) read column-major is C^T, so
+ * Y = M^-1 C^T is one dpotrs with m right-hand sides on a copy of C.
+ */
+#include <float.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "eom_internal.h"
+
+/* S is treated as singular below this reciprocal condition estimate. */
+#define EOM_RCOND_MIN 1e-13
+/* After a refactorization (fixed pivots) below this, factor afresh. */
+#define EOM_RCOND_REFACTOR 1e-6
+
+int eom__factor_mass(eom_system *s)
+{
+    const int n = s->n;
+    int info = 0;
+    memcpy(s->Mf, s->M, (size_t)n * (size_t)n * sizeof(double));
+    dpotrf_("L", &n, s->Mf, &n, &info, 1);
+    if (info > 0)
+        return eom__fail(s, EOM_ERR_SINGULAR_MASS,
+                         "the mass matrix is not positive definite (its "
+                         "leading minor of order %d is not positive)", info);
+    if (info < 0)
+        return eom__fail(s, EOM_ERR_LINALG, "dpotrf: argument %d", -info);
+    return EOM_OK;
+}
+
+int eom__mass_solve(eom_system *s, double *B, int nrhs)
+{
+    const int n = s->n;
+    int info = 0;
+    dpotrs_("L", &n, &nrhs, s->Mf, &n, B, &n, &info, 1);
+    if (info != 0)
+        return eom__fail(s, EOM_ERR_LINALG, "dpotrs: argument %d", -info);
+    return EOM_OK;
+}
+
+int eom__constraints_at(eom_system *s, const double *q)
+{
+    int st = tp_jacobian(s->tphi.ws, q, 0, s->n, s->phi, s->C);
+    return eom__tape_status(s, st, "the constraints or their Jacobian");
+}
+
+/* Factor S (Sx holds it) with KLU: the first time with pivoting, then by
+ * refactorization with the same pivots, factoring afresh when those pivots
+ * have become poor. */
+static int klu_factor_S(eom_system *s, bool fresh)
+{
+    if (fresh && s->knum)
+        klu_free_numeric(&s->knum, &s->kc);
+    if (!s->knum) {
+        s->knum = klu_factor(s->Sp, s->Si, s->Sx, s->ksym, &s->kc);
+        if (!s->knum)
+            return s->kc.status == KLU_OUT_OF_MEMORY ? EOM_ERR_NOMEM
+                                                     : EOM_ERR_RANK_DEFICIENT;
+    } else if (!klu_refactor(s->Sp, s->Si, s->Sx, s->ksym, s->knum,
+                             &s->kc)) {
+        return s->kc.status == KLU_OUT_OF_MEMORY ? EOM_ERR_NOMEM
+                                                 : EOM_ERR_RANK_DEFICIENT;
+    }
+    if (!klu_rcond(s->ksym, s->knum, &s->kc))
+        return EOM_ERR_LINALG;
+    s->rcond_S = s->kc.rcond;
+    return EOM_OK;
+}
+
+int eom__factor_S(eom_system *s)
+{
+    const int n = s->n, m = s->m;
+    int i, j, k, rc;
+    memcpy(s->Y, s->C, (size_t)m * (size_t)n * sizeof(double));
+    if ((rc = eom__mass_solve(s, s->Y, m)) != EOM_OK)
+        return rc;
+    for (i = 0; i < m; i++) {
+        for (j = 0; j <= i; j++) {
+            double a = 0.0, b = 0.0;
+            for (k = 0; k < n; k++) {
+                a += s->C[i * n + k] * s->Y[j * n + k];
+                b += s->C[j * n + k] * s->Y[i * n + k];
+            }
+            /* symmetric in exact arithmetic; keep it so in rounding */
+            s->S[i * m + j] = s->S[j * m + i] = 0.5 * (a + b);
+        }
+    }
+    if (!eom__finite(s->S, (size_t)m * (size_t)m))
+        return eom__fail(s, EOM_ERR_NONFINITE,
+                         "C M^-1 C^T is not finite");
+    memcpy(s->Sx, s->S, (size_t)m * (size_t)m * sizeof(double));
+    rc = klu_factor_S(s, false);
+    if (rc == EOM_OK && s->rcond_S < EOM_RCOND_REFACTOR)
+        rc = klu_factor_S(s, true);
+    if (rc == EOM_ERR_NOMEM)
+        return eom__fail(s, rc, "KLU: out of memory");
+    if (rc == EOM_ERR_LINALG)
+        return eom__fail(s, rc, "KLU: rcond failed (status %d)",
+                         s->kc.status);
+    if (rc != EOM_OK || s->rcond_S < EOM_RCOND_MIN)
+        return eom__fail(s, EOM_ERR_RANK_DEFICIENT,
+                         "the constraint Jacobian is rank deficient here: "
+                         "C M^-1 C^T has reciprocal condition estimate %.3g "
+                         "(a singular configuration, or redundant "
+                         "constraints)", rc == EOM_OK ? s->rcond_S : 0.0);
+    return EOM_OK;
+}
+
+int eom__S_solve(eom_system *s, double *b)
+{
+    if (!klu_solve(s->ksym, s->knum, s->m, 1, b, &s->kc))
+        return eom__fail(s, EOM_ERR_LINALG, "KLU solve failed (status %d)",
+                         s->kc.status);
+    return EOM_OK;
+}
+
+static double dot(const double *a, const double *b, int n)
+{
+    double sum = 0.0;
+    int i;
+    for (i = 0; i < n; i++)
+        sum += a[i] * b[i];
+    return sum;
+}
+
+int eom__evaluate(eom_system *s, double t, const double *x)
+{
+    const int n = s->n, m = s->m;
+    const double *qd = x + n;
+    int i, j, st, rc;
+
+    if (!isfinite(t) || !eom__finite(x, 2 * (size_t)n))
+        return eom__fail(s, EOM_ERR_NONFINITE,
+                         "the state at t = %g is not finite", t);
+    st = tp_lagrange(s->tL.ws, x, 0, NULL, s->g, s->M, s->h);
+    if ((rc = eom__tape_status(s, st, "a derivative of the Lagrangian")))
+        return rc;
+    for (i = 0; i < n; i++)
+        s->F[i] = s->g[i] - s->h[i];
+    s->power = 0.0;
+    if (s->has_R) {
+        st = tp_gradient(s->tR.ws, x, 0, NULL, s->gR);
+        if ((rc = eom__tape_status(s, st, "the gradient of the dissipation")))
+            return rc;
+        for (i = 0; i < n; i++)
+            s->F[i] -= s->gR[n + i];
+        s->power -= dot(qd, s->gR + n, n);
+    }
+    if (s->has_Q) {
+        memcpy(s->xq, x, 2 * (size_t)n * sizeof(double));
+        s->xq[2 * n] = t;
+        st = tp_eval(s->tQ.ws, s->xq, s->Qv);
+        if ((rc = eom__tape_status(s, st, "a generalized force")))
+            return rc;
+        for (i = 0; i < n; i++)
+            s->F[i] += s->Qv[i];
+        s->power += dot(qd, s->Qv, n);
+    }
+    if ((rc = eom__factor_mass(s)) != EOM_OK)
+        return rc;
+    memcpy(s->qdd, s->F, (size_t)n * sizeof(double));
+    if ((rc = eom__mass_solve(s, s->qdd, 1)) != EOM_OK)
+        return rc;
+    if (m > 0) {
+        /* C and phi, then C qd and the curvature along qd in one sweep */
+        if ((rc = eom__constraints_at(s, x)) != EOM_OK)
+            return rc;
+        st = tp_taylor2(s->tphi.ws, x, qd, NULL, s->phid, s->gam);
+        if ((rc = eom__tape_status(s, st, "the constraint curvature")))
+            return rc;
+        for (j = 0; j < m; j++)
+            s->gam[j] = -s->gam[j] - 2.0 * s->alpha * s->phid[j] -
+                        s->beta * s->beta * s->phi[j];
+        if ((rc = eom__factor_S(s)) != EOM_OK)
+            return rc;
+        for (j = 0; j < m; j++)
+            s->lam[j] = s->gam[j] - dot(s->C + (size_t)j * (size_t)n,
+                                        s->qdd, n);
+        if ((rc = eom__S_solve(s, s->lam)) != EOM_OK)
+            return rc;
+        for (j = 0; j < m; j++)
+            for (i = 0; i < n; i++)
+                s->qdd[i] += s->Y[(size_t)j * (size_t)n + (size_t)i] *
+                             s->lam[j];
+    }
+    if (!eom__finite(s->qdd, (size_t)n))
+        return eom__fail(s, EOM_ERR_NONFINITE,
+                         "the accelerations at t = %g are not finite", t);
+    return EOM_OK;
+}
+
+int eom_rhs(eom_system *s, double t, const double *x, double *xd)
+{
+    int rc;
+    if (!s)
+        return EOM_ERR_NULL;
+    if (!x || !xd)
+        return eom__fail(s, EOM_ERR_NULL, "eom_rhs: x or xd is NULL");
+    if ((rc = eom__evaluate(s, t, x)) != EOM_OK)
+        return rc;
+    memmove(xd, x + s->n, (size_t)s->n * sizeof(double));
+    memcpy(xd + s->n, s->qdd, (size_t)s->n * sizeof(double));
+    s->msg[0] = '\0';
+    return EOM_OK;
+}
+
+int eom_mass_matrix(eom_system *s, const double *x, double *M)
+{
+    int st;
+    if (!s)
+        return EOM_ERR_NULL;
+    if (!x || !M)
+        return eom__fail(s, EOM_ERR_NULL, "eom_mass_matrix: NULL argument");
+    if (!eom__finite(x, 2 * (size_t)s->n))
+        return eom__fail(s, EOM_ERR_NONFINITE, "the state is not finite");
+    st = tp_lagrange(s->tL.ws, x, 0, NULL, NULL, M, NULL);
+    return eom__tape_status(s, st, "the mass matrix");
+}
+
+int eom_constraint_jacobian(eom_system *s, const double *x, double *C,
+                            double *phi)
+{
+    int rc;
+    if (!s)
+        return EOM_ERR_NULL;
+    if (!x || !C)
+        return eom__fail(s, EOM_ERR_NULL,
+                         "eom_constraint_jacobian: NULL argument");
+    if (s->m == 0)
+        return EOM_OK;
+    if (!eom__finite(x, (size_t)s->n))
+        return eom__fail(s, EOM_ERR_NONFINITE, "q is not finite");
+    if ((rc = eom__constraints_at(s, x)) != EOM_OK)
+        return rc;
+    memcpy(C, s->C, (size_t)s->m * (size_t)s->n * sizeof(double));
+    if (phi)
+        memcpy(phi, s->phi, (size_t)s->m * sizeof(double));
+    return EOM_OK;
+}
+
+int eom_multipliers(eom_system *s, double t, const double *x,
+                    double *lambda)
+{
+    int rc;
+    if (!s)
+        return EOM_ERR_NULL;
+    if (!x || (!lambda && s->m > 0))
+        return eom__fail(s, EOM_ERR_NULL, "eom_multipliers: NULL argument");
+    if ((rc = eom__evaluate(s, t, x)) != EOM_OK)
+        return rc;
+    if (s->m > 0)
+        memcpy(lambda, s->lam, (size_t)s->m * sizeof(double));
+    return EOM_OK;
+}
+
+int eom_residuals(eom_system *s, const double *x, double *phi,
+                  double *phidot)
+{
+    int st;
+    if (!s)
+        return EOM_ERR_NULL;
+    if (!x)
+        return eom__fail(s, EOM_ERR_NULL, "eom_residuals: x is NULL");
+    if (s->m == 0)
+        return EOM_OK;
+    if (!eom__finite(x, 2 * (size_t)s->n))
+        return eom__fail(s, EOM_ERR_NONFINITE, "the state is not finite");
+    st = tp_taylor2(s->tphi.ws, x, x + s->n, s->phi, s->phid, s->gam);
+    if (st < 0 || st == TP_WARN_NONFINITE)
+        return eom__tape_status(s, st, "the constraint residuals");
+    if (phi)
+        memcpy(phi, s->phi, (size_t)s->m * sizeof(double));
+    if (phidot)
+        memcpy(phidot, s->phid, (size_t)s->m * sizeof(double));
+    return EOM_OK;
+}
+
+int eom_condition(eom_system *s, const double *x, double *rcond_M,
+                  double *rcond_S)
+{
+    const int n = s ? s->n : 0;
+    double anorm, *work;
+    int *iwork, info = 0, rc;
+    if (!s)
+        return EOM_ERR_NULL;
+    if (!x)
+        return eom__fail(s, EOM_ERR_NULL, "eom_condition: x is NULL");
+    if ((rc = eom_mass_matrix(s, x, s->M)) != EOM_OK)
+        return rc;
+    work = malloc(3 * (size_t)n * sizeof(double));
+    iwork = malloc((size_t)n * sizeof(int));
+    if (!work || !iwork) {
+        free(work);
+        free(iwork);
+        return eom__fail(s, EOM_ERR_NOMEM, "out of memory");
+    }
+    anorm = dlansy_("1", "L", &n, s->M, &n, work, 1, 1);
+    rc = eom__factor_mass(s);
+    if (rc == EOM_OK && rcond_M) {
+        dpocon_("L", &n, s->Mf, &n, &anorm, rcond_M, work, iwork, &info, 1);
+        if (info != 0)
+            rc = eom__fail(s, EOM_ERR_LINALG, "dpocon: argument %d", -info);
+    } else if (rc == EOM_ERR_SINGULAR_MASS && rcond_M) {
+        *rcond_M = 0.0;
+    }
+    free(work);
+    free(iwork);
+    if (rc != EOM_OK)
+        return rc;
+    if (rcond_S) {
+        *rcond_S = 1.0;
+        if (s->m > 0) {
+            if ((rc = eom__constraints_at(s, x)) != EOM_OK)
+                return rc;
+            rc = eom__factor_S(s);
+            if (rc == EOM_OK) {
+                /* KLU's 1-norm condition estimate (more than the pivot
+                 * ratio used to screen each step) */
+                if (!klu_condest(s->Sp, s->Sx, s->ksym, s->knum, &s->kc))
+                    return eom__fail(s, EOM_ERR_LINALG,
+                                     "klu_condest failed");
+                *rcond_S = 1.0 / s->kc.condest;
+            } else if (rc == EOM_ERR_RANK_DEFICIENT) {
+                *rcond_S = s->rcond_S;
+            }
+            return rc;
+        }
+    }
+    return EOM_OK;
+}

@@ -1,0 +1,597 @@
+/* system.c - eom_system_new records every callback of a model once, one
+ * tape per purpose (see eom_internal.h), and prepares the solvers; also
+ * the system's accessors and parameter handling. */
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "eom_internal.h"
+
+int eom__fail(eom_system *s, int status, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(s->msg, sizeof s->msg, fmt, ap);
+    va_end(ap);
+    return status;
+}
+
+bool eom__finite(const double *a, size_t n)
+{
+    size_t i;
+    for (i = 0; i < n; i++)
+        if (!isfinite(a[i]))
+            return false;
+    return true;
+}
+
+int eom__tape_status(eom_system *s, int st, const char *what)
+{
+    if (st == TP_OK)
+        return EOM_OK;
+    if (st == TP_WARN_NONFINITE)
+        return eom__fail(s, EOM_ERR_NONFINITE,
+                         "%s is not finite (a domain error in the model, or "
+                         "a diverging state)", what);
+    if (st == TP_ERR_NOMEM)
+        return eom__fail(s, EOM_ERR_NOMEM, "%s: out of memory", what);
+    return eom__fail(s, EOM_ERR_ARG, "%s: %s", what, tp_strerror(st));
+}
+
+/* ---- recording ---------------------------------------------------------- */
+
+typedef int (*body_fn)(eom_ctx *c);
+
+typedef struct rec_arg {
+    eom_ctx *c;
+    body_fn body;
+} rec_arg;
+
+static int run_body(tp_rec *r, void *user)
+{
+    rec_arg *a = user;
+    (void)r;
+    return a->body(a->c);
+}
+
+static const tp_val no_val = {UINT32_MAX, 0};
+
+/* Call a scalar callback; its result (or an error) in *out. */
+static int call_scalar(eom_ctx *c, const eom_callback *cb, const char *what,
+                       tp_val *out)
+{
+    int rc;
+    *out = no_val;
+    rc = cb->fn.scalar(c, cb->user, out);
+    if (rc != 0 && c->status == EOM_OK) {
+        c->status = EOM_ERR_RECORD;
+        snprintf(c->msg, sizeof c->msg, "the %s callback returned %d", what,
+                 rc);
+    }
+    return rc;
+}
+
+static int body_L(eom_ctx *c)
+{
+    const eom_model *m = c->m;
+    tp_val L, T, V;
+    if (m->L.set) {
+        if (call_scalar(c, &m->L, "Lagrangian", &L))
+            return 1;
+    } else {
+        if (call_scalar(c, &m->T, "kinetic energy", &T))
+            return 1;
+        if (m->V.set) {
+            if (call_scalar(c, &m->V, "potential energy", &V))
+                return 1;
+            L = tp_sub(c->r, T, V);
+        } else {
+            L = T;
+        }
+    }
+    return tp_output(c->r, "L", L) < 0;
+}
+
+static int body_E(eom_ctx *c)
+{
+    const eom_model *m = c->m;
+    char name[32];
+    tp_val v;
+    int k;
+    if (!m->L.set) {
+        if (call_scalar(c, &m->T, "kinetic energy", &v) ||
+            tp_output(c->r, "T", v) < 0)
+            return 1;
+        if (m->V.set) {
+            if (call_scalar(c, &m->V, "potential energy", &v))
+                return 1;
+        } else {
+            v = tp_const(c->r, 0.0);
+        }
+        if (tp_output(c->r, "V", v) < 0)
+            return 1;
+    }
+    for (k = 0; k < m->n_probes; k++) {
+        eom_callback cb;
+        cb.fn.scalar = m->probes[k].fn;
+        cb.user = m->probes[k].user;
+        if (call_scalar(c, &cb, m->probes[k].name, &v))
+            return 1;
+        snprintf(name, sizeof name, "probe%d", k);
+        if (tp_output(c->r, name, v) < 0)
+            return 1;
+    }
+    return 0;
+}
+
+static int body_R(eom_ctx *c)
+{
+    tp_val R;
+    if (call_scalar(c, &c->m->R, "dissipation", &R))
+        return 1;
+    return tp_output(c->r, "R", R) < 0;
+}
+
+/* Vector callbacks fill count values. */
+static int body_vector(eom_ctx *c, const eom_callback *cb, int count,
+                       const char *what, const char *prefix)
+{
+    tp_val *v = malloc((size_t)count * sizeof *v);
+    char name[32];
+    int k, rc;
+    if (!v) {
+        c->status = EOM_ERR_NOMEM;
+        snprintf(c->msg, sizeof c->msg, "out of memory");
+        return 1;
+    }
+    for (k = 0; k < count; k++)
+        v[k] = no_val;
+    rc = cb->fn.vector(c, cb->user, v);
+    if (rc != 0 && c->status == EOM_OK) {
+        c->status = EOM_ERR_RECORD;
+        snprintf(c->msg, sizeof c->msg, "the %s callback returned %d", what,
+                 rc);
+    }
+    for (k = 0; k < count && rc == 0; k++) {
+        snprintf(name, sizeof name, "%s%d", prefix, k + 1);
+        if (v[k].tag == 0 && c->status == EOM_OK) {
+            c->status = EOM_ERR_RECORD;
+            snprintf(c->msg, sizeof c->msg,
+                     "the %s callback did not set value %d of %d", what,
+                     k + 1, count);
+        }
+        if (tp_output(c->r, name, v[k]) < 0)
+            rc = 1;
+    }
+    free(v);
+    return rc;
+}
+
+static int body_Q(eom_ctx *c)
+{
+    return body_vector(c, &c->m->Q, c->n, "force", "Q");
+}
+
+static int body_phi(eom_ctx *c)
+{
+    return body_vector(c, &c->m->phi, c->m->n_con, "constraint", "phi");
+}
+
+/* Record one tape and make its workspace and parameter map. */
+static int record(eom_system *s, const eom_model *m, eom_tape *et,
+                  eom_role role, body_fn body, const char *what, int dirs)
+{
+    const int n = m->n_coords;
+    const int nind = role == EOM_ROLE_FORCE ? 2 * n + 1
+                     : role == EOM_ROLE_CONSTRAINT ? n : 2 * n;
+    unsigned char *group = malloc((size_t)nind);
+    eom_ctx c;
+    rec_arg arg;
+    int rc, k;
+
+    if (!group)
+        return eom__fail(s, EOM_ERR_NOMEM, "out of memory");
+    for (k = 0; k < nind; k++)
+        group[k] = (unsigned char)(k < n ? 0 : k < 2 * n ? 1 : 2);
+    memset(&c, 0, sizeof c);
+    c.m = m;
+    c.role = role;
+    c.n = n;
+    rc = tp_recorder_new(&c.r, nind, group, NULL);
+    free(group);
+    if (rc != TP_OK)
+        return eom__fail(s, EOM_ERR_NOMEM, "%s: %s", what, tp_strerror(rc));
+    arg.c = &c;
+    arg.body = body;
+    rc = tp_rec_run(c.r, NULL, run_body, &arg);
+    if (c.status != EOM_OK) {
+        rc = eom__fail(s, c.status, "recording the %s: %s", what, c.msg);
+    } else if (rc != TP_OK) {
+        rc = eom__fail(s, rc == TP_ERR_NOMEM ? EOM_ERR_NOMEM : EOM_ERR_RECORD,
+                       "recording the %s: %s", what, tp_rec_errmsg(c.r));
+    } else if ((rc = tp_recorder_finish(c.r, &et->tape)) != TP_OK) {
+        rc = eom__fail(s, rc == TP_ERR_NOMEM ? EOM_ERR_NOMEM : EOM_ERR_RECORD,
+                       "recording the %s: %s", what, tp_rec_errmsg(c.r));
+    } else if ((rc = tp_ws_new(&et->ws, et->tape, dirs, NULL)) != TP_OK) {
+        rc = eom__fail(s, EOM_ERR_NOMEM, "%s workspace: %s", what,
+                       tp_strerror(rc));
+    } else {
+        et->pmap = malloc((size_t)(s->np ? s->np : 1) * sizeof(int));
+        if (!et->pmap) {
+            rc = eom__fail(s, EOM_ERR_NOMEM, "out of memory");
+        } else {
+            for (k = 0; k < s->np; k++)
+                et->pmap[k] = tp_tape_param_index(et->tape, s->params[k].name);
+            rc = EOM_OK;
+        }
+    }
+    tp_rec_free(&c.r);
+    return rc;
+}
+
+static void tape_free(eom_tape *et)
+{
+    tp_ws_free(&et->ws);
+    tp_tape_free(&et->tape);
+    free(et->pmap);
+    et->pmap = NULL;
+}
+
+/* ---- the system --------------------------------------------------------- */
+
+static void free_named(eom_named *v, int n)
+{
+    int i;
+    if (!v)
+        return;
+    for (i = 0; i < n; i++) {
+        free(v[i].name);
+        free(v[i].unit);
+        free(v[i].description);
+    }
+    free(v);
+}
+
+void eom_system_free(eom_system **sp)
+{
+    eom_system *s;
+    if (!sp || !*sp)
+        return;
+    s = *sp;
+    tape_free(&s->tL);
+    tape_free(&s->tE);
+    tape_free(&s->tR);
+    tape_free(&s->tQ);
+    tape_free(&s->tphi);
+    free_named(s->coords, s->n);
+    free_named(s->params, s->np);
+    free_named(s->probes, s->nprobe);
+    if (s->knum)
+        klu_free_numeric(&s->knum, &s->kc);
+    if (s->ksym)
+        klu_free_symbolic(&s->ksym, &s->kc);
+    free(s->pval);
+    free(s->M);
+    free(s->Mf);
+    free(s->g);
+    free(s->h);
+    free(s->F);
+    free(s->qdd);
+    free(s->gR);
+    free(s->Qv);
+    free(s->xq);
+    free(s->C);
+    free(s->phi);
+    free(s->phid);
+    free(s->gam);
+    free(s->Y);
+    free(s->S);
+    free(s->lam);
+    free(s->wn);
+    free(s->wm);
+    free(s->wE);
+    free(s->Sp);
+    free(s->Si);
+    free(s->Sx);
+    free(s);
+    *sp = NULL;
+}
+
+static eom_named *copy_named(const eom_named *v, int n)
+{
+    eom_named *c = calloc((size_t)(n ? n : 1), sizeof *c);
+    int i;
+    if (!c)
+        return NULL;
+    for (i = 0; i < n; i++) {
+        c[i] = v[i];
+        c[i].name = malloc(strlen(v[i].name) + 1);
+        c[i].unit = malloc(strlen(v[i].unit) + 1);
+        c[i].description = malloc(strlen(v[i].description) + 1);
+        if (!c[i].name || !c[i].unit || !c[i].description) {
+            free_named(c, i + 1);
+            return NULL;
+        }
+        strcpy(c[i].name, v[i].name);
+        strcpy(c[i].unit, v[i].unit);
+        strcpy(c[i].description, v[i].description);
+    }
+    return c;
+}
+
+static int alloc_arrays(eom_system *s)
+{
+    const size_t n = (size_t)s->n, m = (size_t)s->m, mm = m ? m : 1;
+    s->pval = calloc(s->np ? (size_t)s->np : 1, sizeof(double));
+    s->M = calloc(n * n, sizeof(double));
+    s->Mf = calloc(n * n, sizeof(double));
+    s->g = calloc(n, sizeof(double));
+    s->h = calloc(n, sizeof(double));
+    s->F = calloc(n, sizeof(double));
+    s->qdd = calloc(n, sizeof(double));
+    s->gR = calloc(2 * n, sizeof(double));
+    s->Qv = calloc(n, sizeof(double));
+    s->xq = calloc(2 * n + 1, sizeof(double));
+    s->C = calloc(mm * n, sizeof(double));
+    s->phi = calloc(mm, sizeof(double));
+    s->phid = calloc(mm, sizeof(double));
+    s->gam = calloc(mm, sizeof(double));
+    s->Y = calloc(n * mm, sizeof(double));
+    s->S = calloc(mm * mm, sizeof(double));
+    s->lam = calloc(mm, sizeof(double));
+    s->wn = calloc(2 * n + 1, sizeof(double));
+    s->wm = calloc(mm, sizeof(double));
+    s->wE = calloc((size_t)s->nprobe + 2, sizeof(double));
+    if (!s->pval || !s->M || !s->Mf || !s->g || !s->h || !s->F || !s->qdd ||
+        !s->gR || !s->Qv || !s->xq || !s->C || !s->phi || !s->phid ||
+        !s->gam || !s->Y || !s->S || !s->lam || !s->wn || !s->wm || !s->wE)
+        return eom__fail(s, EOM_ERR_NOMEM, "out of memory");
+    return EOM_OK;
+}
+
+/* KLU for S: a dense m x m pattern, analyzed once. */
+static int setup_klu(eom_system *s)
+{
+    const int m = s->m;
+    int i, j;
+    s->Sp = malloc((size_t)(m + 1) * sizeof(int));
+    s->Si = malloc((size_t)m * (size_t)m * sizeof(int));
+    s->Sx = malloc((size_t)m * (size_t)m * sizeof(double));
+    if (!s->Sp || !s->Si || !s->Sx)
+        return eom__fail(s, EOM_ERR_NOMEM, "out of memory");
+    for (j = 0; j <= m; j++)
+        s->Sp[j] = j * m;
+    for (j = 0; j < m; j++)
+        for (i = 0; i < m; i++)
+            s->Si[j * m + i] = i;
+    klu_defaults(&s->kc);
+    s->ksym = klu_analyze(m, s->Sp, s->Si, &s->kc);
+    if (!s->ksym)
+        return eom__fail(s, EOM_ERR_LINALG, "KLU analysis failed (status %d)",
+                         s->kc.status);
+    return EOM_OK;
+}
+
+static void copy_msg(char *dst, size_t len, const char *src)
+{
+    if (dst && len) {
+        strncpy(dst, src, len - 1);
+        dst[len - 1] = '\0';
+    }
+}
+
+int eom_system_new(eom_system **out, const eom_model *m, char *errmsg,
+                   size_t errmsg_len)
+{
+    eom_system *s;
+    int rc, k;
+    if (errmsg && errmsg_len)
+        errmsg[0] = '\0';
+    if (!out)
+        return EOM_ERR_NULL;
+    *out = NULL;
+    if (!m)
+        return EOM_ERR_NULL;
+    if (m->status != EOM_OK) {
+        copy_msg(errmsg, errmsg_len, m->msg);
+        return m->status;
+    }
+    if (m->n_coords < 1 || (!m->L.set && !m->T.set) ||
+        (m->L.set && (m->T.set || m->V.set))) {
+        copy_msg(errmsg, errmsg_len,
+                 m->n_coords < 1 ? "the model has no coordinates"
+                 : m->L.set ? "give either T and V, or a Lagrangian L, not "
+                              "both"
+                            : "the model has no kinetic energy or "
+                              "Lagrangian");
+        return EOM_ERR_MODEL;
+    }
+    if (m->n_con >= m->n_coords) {
+        copy_msg(errmsg, errmsg_len,
+                 "there must be fewer constraints than coordinates");
+        return EOM_ERR_MODEL;
+    }
+    s = calloc(1, sizeof *s);
+    if (!s)
+        return EOM_ERR_NOMEM;
+    s->n = m->n_coords;
+    s->m = m->phi.set ? m->n_con : 0;
+    s->np = m->n_params;
+    s->nprobe = m->n_probes;
+    s->has_tv = !m->L.set;
+    s->has_R = m->R.set;
+    s->has_Q = m->Q.set;
+    s->rcond_S = 1.0;
+    s->coords = copy_named(m->coords, s->n);
+    s->params = copy_named(m->params, s->np);
+    s->probes = copy_named(m->probes, s->nprobe);
+    if (!s->coords || !s->params || !s->probes) {
+        rc = eom__fail(s, EOM_ERR_NOMEM, "out of memory");
+        goto fail;
+    }
+    if ((rc = alloc_arrays(s)) != EOM_OK)
+        goto fail;
+    for (k = 0; k < s->np; k++)
+        s->pval[k] = s->params[k].v0;
+    if ((rc = record(s, m, &s->tL, EOM_ROLE_STATE, body_L, "Lagrangian",
+                     s->n)) != EOM_OK)
+        goto fail;
+    if ((s->has_tv || s->nprobe > 0) &&
+        (rc = record(s, m, &s->tE, EOM_ROLE_STATE, body_E, "energies",
+                     1)) != EOM_OK)
+        goto fail;
+    if (s->has_R && (rc = record(s, m, &s->tR, EOM_ROLE_STATE, body_R,
+                                 "dissipation", 1)) != EOM_OK)
+        goto fail;
+    if (s->has_Q && (rc = record(s, m, &s->tQ, EOM_ROLE_FORCE, body_Q,
+                                 "forces", 1)) != EOM_OK)
+        goto fail;
+    if (s->m > 0) {
+        if ((rc = record(s, m, &s->tphi, EOM_ROLE_CONSTRAINT, body_phi,
+                         "constraints", s->n)) != EOM_OK)
+            goto fail;
+        if ((rc = setup_klu(s)) != EOM_OK)
+            goto fail;
+    }
+    s->msg[0] = '\0';
+    *out = s;
+    return EOM_OK;
+fail:
+    copy_msg(errmsg, errmsg_len, s->msg);
+    eom_system_free(&s);
+    return rc;
+}
+
+const char *eom_system_errmsg(const eom_system *s)
+{
+    return s ? s->msg : "NULL system";
+}
+
+/* ---- accessors ---------------------------------------------------------- */
+
+int eom_system_ncoords(const eom_system *s) { return s ? s->n : 0; }
+int eom_system_nconstraints(const eom_system *s) { return s ? s->m : 0; }
+int eom_system_nparams(const eom_system *s) { return s ? s->np : 0; }
+int eom_system_nprobes(const eom_system *s) { return s ? s->nprobe : 0; }
+int eom_system_has_tv(const eom_system *s) { return s && s->has_tv; }
+int eom_system_has_dissipation(const eom_system *s) { return s && s->has_R; }
+
+#define IN_RANGE(k, n) ((k) >= 0 && (k) < (n))
+
+const char *eom_coord_name(const eom_system *s, int i)
+{
+    return s && IN_RANGE(i, s->n) ? s->coords[i].name : NULL;
+}
+
+const char *eom_coord_unit(const eom_system *s, int i)
+{
+    return s && IN_RANGE(i, s->n) ? s->coords[i].unit : NULL;
+}
+
+const char *eom_param_name(const eom_system *s, int k)
+{
+    return s && IN_RANGE(k, s->np) ? s->params[k].name : NULL;
+}
+
+const char *eom_param_unit(const eom_system *s, int k)
+{
+    return s && IN_RANGE(k, s->np) ? s->params[k].unit : NULL;
+}
+
+const char *eom_param_description(const eom_system *s, int k)
+{
+    return s && IN_RANGE(k, s->np) ? s->params[k].description : NULL;
+}
+
+double eom_param_default(const eom_system *s, int k)
+{
+    return s && IN_RANGE(k, s->np) ? s->params[k].v0 : NAN;
+}
+
+const char *eom_probe_name(const eom_system *s, int k)
+{
+    return s && IN_RANGE(k, s->nprobe) ? s->probes[k].name : NULL;
+}
+
+const char *eom_probe_unit(const eom_system *s, int k)
+{
+    return s && IN_RANGE(k, s->nprobe) ? s->probes[k].unit : NULL;
+}
+
+static int index_of(const eom_named *v, int n, const char *name)
+{
+    int i;
+    if (!name)
+        return -1;
+    for (i = 0; i < n; i++)
+        if (strcmp(v[i].name, name) == 0)
+            return i;
+    return -1;
+}
+
+int eom_coord_index(const eom_system *s, const char *name)
+{
+    return s ? index_of(s->coords, s->n, name) : -1;
+}
+
+int eom_param_index(const eom_system *s, const char *name)
+{
+    return s ? index_of(s->params, s->np, name) : -1;
+}
+
+int eom_set_param(eom_system *s, int k, double value)
+{
+    eom_tape *tapes[5];
+    int i;
+    if (!s)
+        return EOM_ERR_NULL;
+    if (!IN_RANGE(k, s->np))
+        return eom__fail(s, EOM_ERR_ARG, "parameter %d outside 0 .. %d", k,
+                         s->np - 1);
+    if (!isfinite(value))
+        return eom__fail(s, EOM_ERR_NONFINITE,
+                         "parameter '%s' set to a non-finite value",
+                         s->params[k].name);
+    tapes[0] = &s->tL;
+    tapes[1] = &s->tE;
+    tapes[2] = &s->tR;
+    tapes[3] = &s->tQ;
+    tapes[4] = &s->tphi;
+    for (i = 0; i < 5; i++)
+        if (tapes[i]->ws && tapes[i]->pmap[k] >= 0)
+            tp_ws_set_param(tapes[i]->ws, tapes[i]->pmap[k], value);
+    s->pval[k] = value;
+    return EOM_OK;
+}
+
+double eom_get_param(const eom_system *s, int k)
+{
+    return s && IN_RANGE(k, s->np) ? s->pval[k] : NAN;
+}
+
+int eom_initial_state(const eom_system *s, double *x)
+{
+    int i;
+    if (!s || !x)
+        return EOM_ERR_NULL;
+    for (i = 0; i < s->n; i++) {
+        x[i] = s->coords[i].v0;
+        x[s->n + i] = s->coords[i].v1;
+    }
+    return EOM_OK;
+}
+
+int eom_set_baumgarte(eom_system *s, double alpha, double beta)
+{
+    if (!s)
+        return EOM_ERR_NULL;
+    if (!(alpha >= 0.0) || !(beta >= 0.0) || !isfinite(alpha) ||
+        !isfinite(beta))
+        return eom__fail(s, EOM_ERR_ARG,
+                         "Baumgarte parameters must be finite and >= 0");
+    s->alpha = alpha;
+    s->beta = beta;
+    return EOM_OK;
+}
