@@ -1,0 +1,233 @@
+/* integrate.c - the integrator front end: options, method names, the
+ * common right-hand side and projection used by every method, and the
+ * public eom_integ_* calls that dispatch to a method's ops table. */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "integrate_internal.h"
+
+static const char *const method_names[] = {"rk4", "erk", "adams", "bdf",
+                                           "ida"};
+
+const char *eom_method_name(eom_method m)
+{
+    return (unsigned)m < 5 ? method_names[m] : "unknown";
+}
+
+int eom_method_from_name(const char *name)
+{
+    int i;
+    for (i = 0; name && i < 5; i++)
+        if (strcmp(name, method_names[i]) == 0)
+            return i;
+    return -1;
+}
+
+void eom_opts_default(eom_opts *o)
+{
+    if (!o)
+        return;
+    o->method = EOM_RK4;
+    o->dt = 1e-3;
+    o->rtol = 1e-8;
+    o->atol = 1e-10;
+    o->max_steps = 10000000L;
+    o->project = 1;
+    o->proj_tol = 1e-12;
+}
+
+int eom__integ_fail(eom_integ *it, int status, const char *fmt, ...)
+{
+    /* format aside first: the arguments may quote it->msg itself */
+    char buf[sizeof it->msg];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(buf, sizeof buf, fmt, ap);
+    va_end(ap);
+    memcpy(it->msg, buf, sizeof buf);
+    it->failed = status;
+    return status;
+}
+
+int eom__integ_rhs(eom_integ *it, double t, const double *y, double *yd)
+{
+    eom_system *s = it->s;
+    const int n = it->n;
+    int rc;
+    it->st.rhs_evals++;
+    rc = eom__evaluate(s, t, y);
+    if (rc != EOM_OK) {
+        snprintf(it->msg, sizeof it->msg, "at t = %.17g: %s", t, s->msg);
+        return rc;
+    }
+    memmove(yd, y + n, (size_t)n * sizeof(double));
+    memcpy(yd + n, s->qdd, (size_t)n * sizeof(double));
+    yd[2 * n] = -s->power;
+    return EOM_OK;
+}
+
+int eom__integ_project(eom_integ *it, double *y)
+{
+    eom_system *s = it->s;
+    int rc, iters = 0, j;
+    if (s->m == 0)
+        return EOM_OK;
+    if (it->o.project) {
+        rc = eom_project(s, y, it->o.proj_tol, &iters);
+        if (rc != EOM_OK) {
+            snprintf(it->msg, sizeof it->msg, "at t = %.17g: %s", it->t,
+                     s->msg);
+            return rc;
+        }
+        if (iters > 0)
+            it->st.projections++;
+    }
+    /* s->phi holds phi at the (projected) q */
+    if (!it->o.project) {
+        rc = eom_residuals(s, y, NULL, NULL);
+        if (rc != EOM_OK) {
+            snprintf(it->msg, sizeof it->msg, "at t = %.17g: %s", it->t,
+                     s->msg);
+            return rc;
+        }
+    }
+    for (j = 0; j < s->m; j++)
+        it->st.max_residual = fmax(it->st.max_residual, fabs(s->phi[j]));
+    return EOM_OK;
+}
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static const eom_integ_ops *ops_of(eom_method m)
+{
+    switch (m) {
+    case EOM_RK4: return &eom__rk4_ops;
+    default: return NULL;
+    }
+}
+
+static int check_opts(const eom_opts *o, char *msg, size_t len)
+{
+    const char *bad = NULL;
+    if (!ops_of(o->method))
+        bad = "unknown integration method";
+    else if (o->method == EOM_RK4 && !(o->dt > 0.0 && isfinite(o->dt)))
+        bad = "rk4 needs a step dt > 0";
+    else if (!(o->dt >= 0.0) || !isfinite(o->dt))
+        bad = "the first step dt must be >= 0";
+    else if (o->method != EOM_RK4 &&
+             !(o->rtol > 0.0 && o->atol > 0.0 && isfinite(o->rtol) &&
+               isfinite(o->atol)))
+        bad = "tolerances rtol and atol must be > 0";
+    else if (o->max_steps < 1)
+        bad = "max_steps must be >= 1";
+    else if (o->project && !(o->proj_tol > 0.0))
+        bad = "the projection tolerance must be > 0";
+    if (bad)
+        snprintf(msg, len, "%s", bad);
+    return bad ? EOM_ERR_ARG : EOM_OK;
+}
+
+int eom_integ_new(eom_integ **out, eom_system *s, const eom_opts *o,
+                  double t0, const double *x0)
+{
+    eom_integ *it;
+    int rc;
+    if (!out)
+        return EOM_ERR_NULL;
+    *out = NULL;
+    if (!s || !o || !x0)
+        return EOM_ERR_NULL;
+    if ((rc = check_opts(o, s->msg, sizeof s->msg)) != EOM_OK)
+        return rc;
+    if (!isfinite(t0) || !eom__finite(x0, 2 * (size_t)s->n))
+        return eom__fail(s, EOM_ERR_NONFINITE,
+                         "the initial state is not finite");
+    it = calloc(1, sizeof *it);
+    if (!it)
+        return EOM_ERR_NOMEM;
+    it->s = s;
+    it->o = *o;
+    it->n = s->n;
+    it->N = 2 * s->n + 1;
+    it->t = t0;
+    it->ops = ops_of(o->method);
+    it->y = calloc((size_t)it->N, sizeof(double));
+    if (!it->y) {
+        free(it);
+        return EOM_ERR_NOMEM;
+    }
+    memcpy(it->y, x0, 2 * (size_t)s->n * sizeof(double));
+    rc = it->ops->init(it);
+    if (rc != EOM_OK) {
+        eom__fail(s, rc, "%s: %s", it->ops->name, it->msg);
+        eom_integ_free(&it);
+        return rc;
+    }
+    *out = it;
+    return EOM_OK;
+}
+
+void eom_integ_free(eom_integ **it)
+{
+    if (!it || !*it)
+        return;
+    if ((*it)->ops && (*it)->ops->destroy)
+        (*it)->ops->destroy(*it);
+    free((*it)->y);
+    free(*it);
+    *it = NULL;
+}
+
+const char *eom_integ_errmsg(const eom_integ *it)
+{
+    return it ? it->msg : "NULL integrator";
+}
+
+int eom_integ_advance(eom_integ *it, double tout, double *x, double *W)
+{
+    double t0;
+    int rc;
+    if (!it)
+        return EOM_ERR_NULL;
+    if (!x) {
+        snprintf(it->msg, sizeof it->msg, "eom_integ_advance: x is NULL");
+        return EOM_ERR_NULL;
+    }
+    if (it->failed)
+        return it->failed;
+    if (!isfinite(tout) || !(tout > it->t)) {
+        snprintf(it->msg, sizeof it->msg,
+                 "eom_integ_advance: tout = %.17g is not after t = %.17g",
+                 tout, it->t);
+        return EOM_ERR_ARG;
+    }
+    t0 = now();
+    rc = it->ops->advance(it, tout);
+    it->st.wall_time += now() - t0;
+    if (rc != EOM_OK)
+        it->failed = rc;
+    memcpy(x, it->y, 2 * (size_t)it->n * sizeof(double));
+    if (W)
+        *W = it->y[2 * it->n];
+    return rc;
+}
+
+int eom_integ_stats(const eom_integ *it, eom_stats *st)
+{
+    if (!it || !st)
+        return EOM_ERR_NULL;
+    *st = it->st;
+    it->ops->stats(it, st);
+    return EOM_OK;
+}

@@ -1,0 +1,63 @@
+/* integrate_internal.h - what the integrator backends share. An eom_integ
+ * holds the common state; each method (RK4, ERK, Adams/BDF, IDA) supplies
+ * an ops table and keeps its own data behind impl.
+ *
+ * The integrated vector is y = (q, qd, W), N = 2n + 1 values: W, the work
+ * done against the non-conservative forces, rides along so that E + W is
+ * conserved (dW/dt = -qd . (-dR/dqd + Q)).
+ */
+#ifndef EOM_INTEGRATE_INTERNAL_H
+#define EOM_INTEGRATE_INTERNAL_H
+
+#include "eom_internal.h"
+
+typedef struct eom_integ_ops {
+    const char *name;
+    /* Set up the method from it->t, it->y; a status. */
+    int (*init)(eom_integ *it);
+    /* Advance it->t, it->y to exactly tout; a status with a message in
+     * it->msg on failure (it->y then holds the last good state). */
+    int (*advance)(eom_integ *it, double tout);
+    /* Add the method's own counters to it->st (steps, evaluations, ...). */
+    void (*stats)(const eom_integ *it, eom_stats *st);
+    void (*destroy)(eom_integ *it);
+} eom_integ_ops;
+
+struct eom_integ {
+    eom_system *s;
+    eom_opts o;
+    int n;          /* coordinates */
+    int N;          /* length of y: 2n + 1 */
+    double t;       /* time of y */
+    double *y;      /* [N] current state */
+    eom_stats st;   /* common counters: rhs_evals, projections, wall time,
+                       max_residual (methods add theirs in stats()) */
+    int failed;     /* a failure is final: later advances return it */
+    char msg[2 * EOM_MSG_LEN]; /* room to quote the system's message */
+    const eom_integ_ops *ops;
+    void *impl;
+};
+
+/* yd = dy/dt at (t, y): (qd, qdd, dW/dt). Counts the evaluation. Returns
+ * the status of eom__evaluate (message in it->msg on failure). */
+int eom__integ_rhs(eom_integ *it, double t, const double *y, double *yd);
+
+/* After an accepted step: project y onto the constraints when the system
+ * has them and projection is on, and track the largest residual. */
+int eom__integ_project(eom_integ *it, double *y);
+
+/* A failure with a message (the arguments may quote it->msg); marks the
+ * integrator failed. */
+int eom__integ_fail(eom_integ *it, int status, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+
+/* The methods. */
+extern const eom_integ_ops eom__rk4_ops;
+extern const eom_integ_ops eom__erk_ops;
+extern const eom_integ_ops eom__cvode_ops; /* Adams and BDF */
+extern const eom_integ_ops eom__ida_ops;
+
+#endif /* EOM_INTEGRATE_INTERNAL_H */
