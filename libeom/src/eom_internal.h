@@ -41,15 +41,31 @@ typedef struct eom_callback {
         eom_vector_fn vector;
     } fn;
     void *user;
+    int count;  /* vector callbacks: number of values */
     bool set;
 } eom_callback;
+
+/* The contributions of one kind, summed (energies) or stacked
+ * (constraint blocks). */
+typedef struct eom_cblist {
+    eom_callback *v;
+    int n, cap;
+} eom_cblist;
+
+typedef struct eom_attached {
+    void *data;
+    void (*free_fn)(void *);
+} eom_attached;
 
 struct eom_model {
     eom_named *coords, *params, *probes;
     int n_coords, n_params, n_probes;
     int cap_coords, cap_params, cap_probes;
-    eom_callback T, V, L, R, Q, phi;
-    int n_con;
+    eom_cblist T, V, R, phi;
+    eom_callback L, Q;
+    int n_con;      /* total over the constraint blocks */
+    eom_attached *att;
+    int n_att, cap_att;
     int status;
     char msg[EOM_MSG_LEN];
 };

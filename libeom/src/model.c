@@ -71,14 +71,47 @@ static void free_named(eom_named *v, int n)
 
 void eom_model_free(eom_model **m)
 {
+    int i;
     if (!m || !*m)
         return;
     free_named((*m)->coords, (*m)->n_coords);
     free_named((*m)->params, (*m)->n_params);
     free_named((*m)->probes, (*m)->n_probes);
+    free((*m)->T.v);
+    free((*m)->V.v);
+    free((*m)->R.v);
+    free((*m)->phi.v);
+    for (i = 0; i < (*m)->n_att; i++)
+        (*m)->att[i].free_fn((*m)->att[i].data);
+    free((*m)->att);
     free(*m);
     *m = NULL;
 }
+
+int eom_model_attach(eom_model *m, void *data, void (*free_fn)(void *))
+{
+    if (!m || !free_fn) {
+        if (free_fn)
+            free_fn(data);
+        return EOM_ERR_NULL;
+    }
+    if (m->n_att == m->cap_att) {
+        int nc = m->cap_att ? 2 * m->cap_att : 4;
+        eom_attached *na = realloc(m->att, (size_t)nc * sizeof *na);
+        if (!na) {
+            free_fn(data);
+            return model_fail(m, EOM_ERR_NOMEM, "out of memory");
+        }
+        m->att = na;
+        m->cap_att = nc;
+    }
+    m->att[m->n_att].data = data;
+    m->att[m->n_att].free_fn = free_fn;
+    m->n_att++;
+    return EOM_OK;
+}
+
+int eom_model_ncoords(const eom_model *m) { return m ? m->n_coords : 0; }
 
 const char *eom_model_errmsg(const eom_model *m)
 {
@@ -210,37 +243,80 @@ int eom_model_add_probe(eom_model *m, const char *name, const char *unit,
     return k;
 }
 
-static int set_scalar(eom_model *m, eom_callback *cb, eom_scalar_fn f,
-                      void *user, const char *what)
+/* Append a contribution to a list (after clearing it when replace). */
+static int push_cb(eom_model *m, eom_cblist *list, eom_callback cb,
+                   bool replace, const char *what)
 {
+    if (!cb.fn.scalar && !cb.fn.vector)
+        return model_fail(m, EOM_ERR_NULL, "%s function is NULL", what);
+    if (replace)
+        list->n = 0;
+    if (list->n == list->cap) {
+        int nc = list->cap ? 2 * list->cap : 4;
+        eom_callback *nv = realloc(list->v, (size_t)nc * sizeof *nv);
+        if (!nv)
+            return model_fail(m, EOM_ERR_NOMEM, "out of memory");
+        list->v = nv;
+        list->cap = nc;
+    }
+    cb.set = true;
+    list->v[list->n++] = cb;
+    return EOM_OK;
+}
+
+static int scalar_cb(eom_model *m, eom_cblist *list, eom_scalar_fn f,
+                     void *user, bool replace, const char *what)
+{
+    eom_callback cb;
     if (!m)
         return EOM_ERR_NULL;
-    if (!f)
-        return model_fail(m, EOM_ERR_NULL, "%s function is NULL", what);
-    cb->fn.scalar = f;
-    cb->user = user;
-    cb->set = true;
-    return EOM_OK;
+    memset(&cb, 0, sizeof cb);
+    cb.fn.scalar = f;
+    cb.user = user;
+    return push_cb(m, list, cb, replace, what);
 }
 
 int eom_model_set_kinetic(eom_model *m, eom_scalar_fn T, void *user)
 {
-    return set_scalar(m, m ? &m->T : NULL, T, user, "kinetic energy");
+    return scalar_cb(m, m ? &m->T : NULL, T, user, true, "kinetic energy");
+}
+
+int eom_model_add_kinetic(eom_model *m, eom_scalar_fn T, void *user)
+{
+    return scalar_cb(m, m ? &m->T : NULL, T, user, false, "kinetic energy");
 }
 
 int eom_model_set_potential(eom_model *m, eom_scalar_fn V, void *user)
 {
-    return set_scalar(m, m ? &m->V : NULL, V, user, "potential energy");
+    return scalar_cb(m, m ? &m->V : NULL, V, user, true, "potential energy");
 }
 
-int eom_model_set_lagrangian(eom_model *m, eom_scalar_fn L, void *user)
+int eom_model_add_potential(eom_model *m, eom_scalar_fn V, void *user)
 {
-    return set_scalar(m, m ? &m->L : NULL, L, user, "Lagrangian");
+    return scalar_cb(m, m ? &m->V : NULL, V, user, false,
+                     "potential energy");
 }
 
 int eom_model_set_dissipation(eom_model *m, eom_scalar_fn R, void *user)
 {
-    return set_scalar(m, m ? &m->R : NULL, R, user, "dissipation");
+    return scalar_cb(m, m ? &m->R : NULL, R, user, true, "dissipation");
+}
+
+int eom_model_add_dissipation(eom_model *m, eom_scalar_fn R, void *user)
+{
+    return scalar_cb(m, m ? &m->R : NULL, R, user, false, "dissipation");
+}
+
+int eom_model_set_lagrangian(eom_model *m, eom_scalar_fn L, void *user)
+{
+    if (!m)
+        return EOM_ERR_NULL;
+    if (!L)
+        return model_fail(m, EOM_ERR_NULL, "Lagrangian function is NULL");
+    m->L.fn.scalar = L;
+    m->L.user = user;
+    m->L.set = true;
+    return EOM_OK;
 }
 
 int eom_model_set_forces(eom_model *m, eom_vector_fn Q, void *user)
@@ -255,20 +331,39 @@ int eom_model_set_forces(eom_model *m, eom_vector_fn Q, void *user)
     return EOM_OK;
 }
 
-int eom_model_set_constraints(eom_model *m, int count, eom_vector_fn phi,
-                              void *user)
+static int constraint_cb(eom_model *m, int count, eom_vector_fn phi,
+                         void *user, bool replace)
 {
+    eom_callback cb;
+    int rc;
     if (!m)
         return EOM_ERR_NULL;
     if (!phi)
         return model_fail(m, EOM_ERR_NULL, "constraint function is NULL");
     if (count < 1 || count > 100000)
         return model_fail(m, EOM_ERR_ARG, "constraint count %d", count);
-    m->phi.fn.vector = phi;
-    m->phi.user = user;
-    m->phi.set = true;
-    m->n_con = count;
-    return EOM_OK;
+    memset(&cb, 0, sizeof cb);
+    cb.fn.vector = phi;
+    cb.user = user;
+    cb.count = count;
+    if (replace)
+        m->n_con = 0;
+    rc = push_cb(m, &m->phi, cb, replace, "constraint");
+    if (rc == EOM_OK)
+        m->n_con += count;
+    return rc;
+}
+
+int eom_model_set_constraints(eom_model *m, int count, eom_vector_fn phi,
+                              void *user)
+{
+    return constraint_cb(m, count, phi, user, true);
+}
+
+int eom_model_add_constraints(eom_model *m, int count, eom_vector_fn phi,
+                              void *user)
+{
+    return constraint_cb(m, count, phi, user, false);
 }
 
 /* ---- the recording context -------------------------------------------- */

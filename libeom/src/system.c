@@ -73,6 +73,21 @@ static int call_scalar(eom_ctx *c, const eom_callback *cb, const char *what,
     return rc;
 }
 
+/* The sum of a list of scalar contributions (0 for an empty list). */
+static int call_sum(eom_ctx *c, const eom_cblist *list, const char *what,
+                    tp_val *out)
+{
+    tp_val v;
+    int k;
+    *out = tp_const(c->r, 0.0);
+    for (k = 0; k < list->n; k++) {
+        if (call_scalar(c, &list->v[k], what, &v))
+            return 1;
+        *out = k == 0 ? v : tp_add(c->r, *out, v);
+    }
+    return 0;
+}
+
 static int body_L(eom_ctx *c)
 {
     const eom_model *m = c->m;
@@ -81,15 +96,10 @@ static int body_L(eom_ctx *c)
         if (call_scalar(c, &m->L, "Lagrangian", &L))
             return 1;
     } else {
-        if (call_scalar(c, &m->T, "kinetic energy", &T))
+        if (call_sum(c, &m->T, "kinetic energy", &T) ||
+            call_sum(c, &m->V, "potential energy", &V))
             return 1;
-        if (m->V.set) {
-            if (call_scalar(c, &m->V, "potential energy", &V))
-                return 1;
-            L = tp_sub(c->r, T, V);
-        } else {
-            L = T;
-        }
+        L = m->V.n ? tp_sub(c->r, T, V) : T;
     }
     return tp_output(c->r, "L", L) < 0;
 }
@@ -101,16 +111,11 @@ static int body_E(eom_ctx *c)
     tp_val v;
     int k;
     if (!m->L.set) {
-        if (call_scalar(c, &m->T, "kinetic energy", &v) ||
+        if (call_sum(c, &m->T, "kinetic energy", &v) ||
             tp_output(c->r, "T", v) < 0)
             return 1;
-        if (m->V.set) {
-            if (call_scalar(c, &m->V, "potential energy", &v))
-                return 1;
-        } else {
-            v = tp_const(c->r, 0.0);
-        }
-        if (tp_output(c->r, "V", v) < 0)
+        if (call_sum(c, &m->V, "potential energy", &v) ||
+            tp_output(c->r, "V", v) < 0)
             return 1;
     }
     for (k = 0; k < m->n_probes; k++) {
@@ -129,14 +134,15 @@ static int body_E(eom_ctx *c)
 static int body_R(eom_ctx *c)
 {
     tp_val R;
-    if (call_scalar(c, &c->m->R, "dissipation", &R))
+    if (call_sum(c, &c->m->R, "dissipation", &R))
         return 1;
     return tp_output(c->r, "R", R) < 0;
 }
 
-/* Vector callbacks fill count values. */
+/* A vector callback fills count values, declared as outputs prefix<k>
+ * from number first + 1 on. */
 static int body_vector(eom_ctx *c, const eom_callback *cb, int count,
-                       const char *what, const char *prefix)
+                       int first, const char *what, const char *prefix)
 {
     tp_val *v = malloc((size_t)count * sizeof *v);
     char name[32];
@@ -155,7 +161,7 @@ static int body_vector(eom_ctx *c, const eom_callback *cb, int count,
                  rc);
     }
     for (k = 0; k < count && rc == 0; k++) {
-        snprintf(name, sizeof name, "%s%d", prefix, k + 1);
+        snprintf(name, sizeof name, "%s%d", prefix, first + k + 1);
         if (v[k].tag == 0 && c->status == EOM_OK) {
             c->status = EOM_ERR_RECORD;
             snprintf(c->msg, sizeof c->msg,
@@ -171,12 +177,21 @@ static int body_vector(eom_ctx *c, const eom_callback *cb, int count,
 
 static int body_Q(eom_ctx *c)
 {
-    return body_vector(c, &c->m->Q, c->n, "force", "Q");
+    return body_vector(c, &c->m->Q, c->n, 0, "force", "Q");
 }
 
+/* The constraint blocks, stacked in the order they were added. */
 static int body_phi(eom_ctx *c)
 {
-    return body_vector(c, &c->m->phi, c->m->n_con, "constraint", "phi");
+    const eom_cblist *list = &c->m->phi;
+    int k, first = 0;
+    for (k = 0; k < list->n; k++) {
+        if (body_vector(c, &list->v[k], list->v[k].count, first,
+                        "constraint", "phi"))
+            return 1;
+        first += list->v[k].count;
+    }
+    return 0;
 }
 
 /* Record one tape and make its workspace and parameter map. */
@@ -398,8 +413,8 @@ int eom_system_new(eom_system **out, const eom_model *m, char *errmsg,
         copy_msg(errmsg, errmsg_len, m->msg);
         return m->status;
     }
-    if (m->n_coords < 1 || (!m->L.set && !m->T.set) ||
-        (m->L.set && (m->T.set || m->V.set))) {
+    if (m->n_coords < 1 || (!m->L.set && m->T.n == 0) ||
+        (m->L.set && (m->T.n > 0 || m->V.n > 0))) {
         copy_msg(errmsg, errmsg_len,
                  m->n_coords < 1 ? "the model has no coordinates"
                  : m->L.set ? "give either T and V, or a Lagrangian L, not "
@@ -417,11 +432,11 @@ int eom_system_new(eom_system **out, const eom_model *m, char *errmsg,
     if (!s)
         return EOM_ERR_NOMEM;
     s->n = m->n_coords;
-    s->m = m->phi.set ? m->n_con : 0;
+    s->m = m->phi.n > 0 ? m->n_con : 0;
     s->np = m->n_params;
     s->nprobe = m->n_probes;
     s->has_tv = !m->L.set;
-    s->has_R = m->R.set;
+    s->has_R = m->R.n > 0;
     s->has_Q = m->Q.set;
     s->rcond_S = 1.0;
     s->coords = copy_named(m->coords, s->n);

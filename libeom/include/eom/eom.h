@@ -102,21 +102,39 @@ EOM_API int eom_model_add_param(eom_model *m, const char *name,
 
 /* Energies: either T and V (V may be omitted: zero), or a Lagrangian L.
  * Each callback is kept by pointer with its user pointer (borrowed until
- * eom_system_new returns). */
+ * eom_system_new returns). set_* makes f the only contribution of its
+ * kind; add_* adds one more, and the contributions are summed: this is
+ * how elements of a scene each record only their own terms. */
 EOM_API int eom_model_set_kinetic(eom_model *m, eom_scalar_fn T, void *user);
 EOM_API int eom_model_set_potential(eom_model *m, eom_scalar_fn V,
+                                    void *user);
+EOM_API int eom_model_add_kinetic(eom_model *m, eom_scalar_fn T, void *user);
+EOM_API int eom_model_add_potential(eom_model *m, eom_scalar_fn V,
                                     void *user);
 EOM_API int eom_model_set_lagrangian(eom_model *m, eom_scalar_fn L,
                                      void *user);
 /* Rayleigh dissipation R(q, qd): generalized force -dR/dqd. */
 EOM_API int eom_model_set_dissipation(eom_model *m, eom_scalar_fn R,
                                       void *user);
+EOM_API int eom_model_add_dissipation(eom_model *m, eom_scalar_fn R,
+                                      void *user);
 /* Generalized forces Q(q, qd, t): n values (eom_time is available). */
 EOM_API int eom_model_set_forces(eom_model *m, eom_vector_fn Q, void *user);
 /* Holonomic constraints phi(q) = 0: count values of q only (reading qd
- * or the time in this callback is an error). */
+ * or the time in this callback is an error). set_ makes phi the only
+ * block of constraints; add_ appends a block (the blocks are stacked in
+ * the order added). */
 EOM_API int eom_model_set_constraints(eom_model *m, int count,
                                       eom_vector_fn phi, void *user);
+EOM_API int eom_model_add_constraints(eom_model *m, int count,
+                                      eom_vector_fn phi, void *user);
+/* Give the model data to free with it (for example an element's
+ * description that its callbacks read). free_fn(data) is called by
+ * eom_model_free; on failure it is called at once. */
+EOM_API int eom_model_attach(eom_model *m, void *data,
+                             void (*free_fn)(void *));
+/* Number of coordinates added so far (the index the next one gets). */
+EOM_API int eom_model_ncoords(const eom_model *m);
 /* A named scalar of (q, qd) reported beside the energies (for example
  * the flexible part of a link's kinetic energy). */
 EOM_API int eom_model_add_probe(eom_model *m, const char *name,
