@@ -112,6 +112,10 @@ static const eom_integ_ops *ops_of(eom_method m)
 {
     switch (m) {
     case EOM_RK4: return &eom__rk4_ops;
+    case EOM_ERK: return &eom__erk_ops;
+    case EOM_ADAMS:
+    case EOM_BDF: return &eom__cvode_ops;
+    case EOM_IDA: return &eom__ida_ops;
     default: return NULL;
     }
 }
@@ -174,6 +178,7 @@ int eom_integ_new(eom_integ **out, eom_system *s, const eom_opts *o,
         eom_integ_free(&it);
         return rc;
     }
+    s->msg[0] = '\0';
     *out = it;
     return EOM_OK;
 }

@@ -54,6 +54,41 @@ int eom__integ_fail(eom_integ *it, int status, const char *fmt, ...)
 #endif
     ;
 
+/* ---- what the SUNDIALS methods share (integrate_sundials.c) ---------- */
+
+/* Why a SUNDIALS method stopped: the status and message of its most
+ * recent callback, and the solver's own message about its last error. */
+typedef struct eom_sun_report {
+    int cb_status;
+    char cb_msg[2 * EOM_MSG_LEN];
+    char sun_msg[EOM_MSG_LEN];
+} eom_sun_report;
+
+/* Forget the previous advance's callback status and messages. */
+void eom__sun_report_reset(eom_sun_report *r);
+/* The solver's return value for a callback status: 0, +1 (recoverable:
+ * EOM_ERR_NONFINITE, the solver retries with a smaller step) or -1;
+ * remembers the status and it->msg in r. */
+int eom__sun_cb_result(eom_integ *it, eom_sun_report *r, int rc);
+/* A SUNDIALS error handler (user data: an eom_sun_report) that keeps the
+ * solver's last error message instead of printing it. */
+void eom__sun_error(int code, const char *module, const char *function,
+                    char *msg, void *user);
+/* An allocation during setup failed: EOM_ERR_NOMEM with a message. */
+int eom__integ_nomem(eom_integ *it);
+/* A failed setup call: a message naming the call and the flag (flag_name
+ * as allocated by SUNDIALS' GetReturnFlagName; freed here); the status
+ * is EOM_ERR_NOMEM when mem_fail, else EOM_ERR_SOLVER. */
+int eom__sun_setup_failed(eom_integ *it, char *flag_name, int mem_fail,
+                          const char *call);
+/* A solver's failure at time t: the status (the failed callback's, or
+ * EOM_ERR_SOLVER) with a message naming the method, the flag (flag_name
+ * as allocated by SUNDIALS; freed here), the time and the cause. */
+int eom__sun_failed(eom_integ *it, const eom_sun_report *r,
+                    const char *method, char *flag_name, double t);
+/* The smallest step to allow while advancing from t to tout. */
+double eom__sun_min_step(double t, double tout);
+
 /* The methods. */
 extern const eom_integ_ops eom__rk4_ops;
 extern const eom_integ_ops eom__erk_ops;

@@ -1,0 +1,169 @@
+/* integrate_arkode.c - EOM_ERK: ARKODE's ERKStep, an adaptive explicit
+ * Runge-Kutta method on y = (q, qd, W), with the Verner 8-5-6 table of
+ * SUNDIALS 6.4 (8 stages, order 6, embedded order 5 for the error
+ * estimate; 6.4 has no 8th-order Verner table).
+ *
+ * Output times: each advance sets the stop time to tout, so the last step
+ * ends on tout and the state returned is a step result, not an
+ * interpolant. Drift: a step postprocessing function projects every
+ * accepted step onto the constraints (when projection is on and the
+ * system has constraints), before ARKODE updates its interpolation data
+ * and uses the step as the start of the next one.
+ *
+ * Callbacks return 0, +1 for EOM_ERR_NONFINITE and -1 otherwise, and keep
+ * the status and message of the most recent one: when the solver fails
+ * right after a failed callback, that callback's status is the cause.
+ * ERKStep itself treats +1 from the right-hand side as unrecoverable
+ * (ARK_UNREC_RHSFUNC_ERR); it does not retry with a smaller step.
+ */
+#include <float.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <arkode/arkode_erkstep.h>
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_context.h>
+
+#include "integrate_internal.h"
+
+#define ERK_TABLE ARKODE_VERNER_8_5_6
+
+typedef struct erk {
+    SUNContext ctx;
+    N_Vector y;                /* [N] the solver's state */
+    void *mem;                 /* ERKStep memory */
+    eom_sun_report rep;        /* why it stopped */
+} erk;
+
+static int erk_cb_result(eom_integ *it, erk *e, int rc)
+{
+    return eom__sun_cb_result(it, &e->rep, rc);
+}
+
+static int erk_rhs(sunrealtype t, N_Vector y, N_Vector yd, void *user)
+{
+    eom_integ *it = user;
+    int rc = eom__integ_rhs(it, t, N_VGetArrayPointer(y),
+                            N_VGetArrayPointer(yd));
+    return erk_cb_result(it, it->impl, rc);
+}
+
+/* After each accepted step: project y in place (or only track the
+ * residual when projection is off). */
+static int erk_postprocess(sunrealtype t, N_Vector y, void *user)
+{
+    eom_integ *it = user;
+    /* it->t is the last output time; the messages should name this step */
+    const double t_out = it->t;
+    int rc;
+    it->t = t;
+    rc = eom__integ_project(it, N_VGetArrayPointer(y));
+    it->t = t_out;
+    return erk_cb_result(it, it->impl, rc);
+}
+
+/* A failed setup call: a status and a message naming it. */
+static int erk_setup_failed(eom_integ *it, int flag, const char *call)
+{
+    return eom__sun_setup_failed(it, ERKStepGetReturnFlagName(flag),
+                                 flag == ARK_MEM_FAIL, call);
+}
+
+static void erk_destroy(eom_integ *it)
+{
+    erk *e = it->impl;
+    if (!e)
+        return;
+    ERKStepFree(&e->mem);
+    if (e->y)
+        N_VDestroy(e->y);
+    if (e->ctx)
+        SUNContext_Free(&e->ctx);
+    free(e);
+    it->impl = NULL;
+}
+
+static int erk_init(eom_integ *it)
+{
+    erk *e = calloc(1, sizeof *e);
+    int flag;
+    if (!e)
+        return eom__integ_nomem(it);
+    it->impl = e;
+    if (SUNContext_Create(NULL, &e->ctx) != 0) {
+        e->ctx = NULL;
+        return eom__integ_nomem(it);
+    }
+    e->y = N_VNew_Serial(it->N, e->ctx);
+    if (!e->y)
+        return eom__integ_nomem(it);
+    memcpy(N_VGetArrayPointer(e->y), it->y, (size_t)it->N * sizeof(double));
+    e->mem = ERKStepCreate(erk_rhs, it->t, e->y, e->ctx);
+    if (!e->mem)
+        return eom__integ_nomem(it);
+    if ((flag = ERKStepSetErrHandlerFn(e->mem, eom__sun_error, &e->rep)) < 0)
+        return erk_setup_failed(it, flag, "ERKStepSetErrHandlerFn");
+    if ((flag = ERKStepSetUserData(e->mem, it)) < 0)
+        return erk_setup_failed(it, flag, "ERKStepSetUserData");
+    if ((flag = ERKStepSetTableNum(e->mem, ERK_TABLE)) < 0)
+        return erk_setup_failed(it, flag, "ERKStepSetTableNum");
+    if ((flag = ERKStepSStolerances(e->mem, it->o.rtol, it->o.atol)) < 0)
+        return erk_setup_failed(it, flag, "ERKStepSStolerances");
+    /* explicitly: the default of 500 would stop tight-tolerance runs */
+    if ((flag = ERKStepSetMaxNumSteps(e->mem, it->o.max_steps)) < 0)
+        return erk_setup_failed(it, flag, "ERKStepSetMaxNumSteps");
+    if (it->o.dt > 0.0 &&
+        (flag = ERKStepSetInitStep(e->mem, it->o.dt)) < 0)
+        return erk_setup_failed(it, flag, "ERKStepSetInitStep");
+    if (it->s->m > 0 &&
+        (flag = ERKStepSetPostprocessStepFn(e->mem, erk_postprocess)) < 0)
+        return erk_setup_failed(it, flag, "ERKStepSetPostprocessStepFn");
+    return EOM_OK;
+}
+
+static int erk_advance(eom_integ *it, double tout)
+{
+    erk *e = it->impl;
+    sunrealtype tret = it->t, tcur = it->t, hlast = 0.0;
+    int flag;
+    eom__sun_report_reset(&e->rep);
+    flag = ERKStepSetMinStep(e->mem, eom__sun_min_step(it->t, tout));
+    if (flag >= 0)
+        flag = ERKStepSetStopTime(e->mem, tout);
+    if (flag >= 0)
+        flag = ERKStepEvolve(e->mem, tout, e->y, &tret, ARK_NORMAL);
+    ERKStepGetCurrentTime(e->mem, &tcur);
+    if (flag >= 0) {
+        /* a success that did not reach tout is not one */
+        ERKStepGetLastStep(e->mem, &hlast);
+        if (tcur < tout - 100.0 * DBL_EPSILON * (fabs(tout) + fabs(hlast)))
+            return eom__integ_fail(it, EOM_ERR_SOLVER,
+                                   "erk: stopped at t = %.17g before tout "
+                                   "= %.17g (last step %.3g)", tcur, tout,
+                                   hlast);
+        memcpy(it->y, N_VGetArrayPointer(e->y),
+               (size_t)it->N * sizeof(double));
+        it->t = tout;
+        return EOM_OK;
+    }
+    /* it->y keeps the state at the last output time */
+    return eom__sun_failed(it, &e->rep, "erk", ERKStepGetReturnFlagName(flag),
+                           tcur);
+}
+
+static void erk_stats(const eom_integ *it, eom_stats *st)
+{
+    const erk *e = it->impl;
+    long steps = 0, etf = 0;
+    ERKStepGetNumSteps(e->mem, &steps);
+    ERKStepGetNumErrTestFails(e->mem, &etf);
+    st->steps = steps;
+    st->failures = etf;
+    st->jac_evals = 0;
+    /* rhs_evals: the common counter, which sees every evaluation */
+}
+
+const eom_integ_ops eom__erk_ops = {"erk", erk_init, erk_advance, erk_stats,
+                                    erk_destroy};

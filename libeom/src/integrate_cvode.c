@@ -1,0 +1,335 @@
+/* integrate_cvode.c - EOM_ADAMS and EOM_BDF: CVODE's variable-order,
+ * variable-step multistep methods on y = (q, qd, W).
+ *
+ *   Adams  CV_ADAMS (Adams-Moulton, orders 1..12) with the fixed-point
+ *          nonlinear solver: no Jacobian, for non-stiff models.
+ *   BDF    CV_BDF (orders 1..5) with Newton iteration and a dense direct
+ *          linear solver (SUNDenseMatrix + SUNLinSol_Dense); the Jacobian
+ *          is CVODE's difference quotient, N extra right-hand sides each.
+ *
+ * Output times: each advance sets the stop time to tout, so the solver
+ * never steps past it and the state returned is the step that ends there.
+ *
+ * Drift. CVODE's projection interface (cvode_proj.h) works with BDF only
+ * (CVodeSetProjFn rejects Adams with CV_ILL_INPUT), so:
+ *   BDF    CVODE calls cv_project after the corrector of every step
+ *          attempt, before the error test; it returns the correction of
+ *          least M-norm and projects the error estimate onto the tangent
+ *          space (the q and qd parts each M-orthogonally onto the null
+ *          space of C at the projected q).
+ *   Adams  the state is projected at output times. The caller receives
+ *          the projected state; the solver restarts from it (CVodeReInit:
+ *          order 1, a new initial step) only when the correction exceeds
+ *          the local error tolerance, its WRMS norm with CVODE's error
+ *          weights being > 1. Smaller corrections stay out of the solver.
+ * CVodeReInit zeroes CVODE's counters; they are banked first.
+ *
+ * Callbacks return 0, +1 for EOM_ERR_NONFINITE (CVODE retries with a
+ * smaller step) and -1 otherwise, and keep the status and message of the
+ * most recent one: when the solver fails right after a failed callback,
+ * that callback's status is the cause.
+ */
+#include <float.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cvode/cvode.h>
+#include <cvode/cvode_ls.h>
+#include <cvode/cvode_proj.h>
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_context.h>
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunmatrix/sunmatrix_dense.h>
+#include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
+
+#include "integrate_internal.h"
+
+typedef struct cvode {
+    SUNContext ctx;
+    N_Vector y;                /* [N] the solver's state */
+    N_Vector ewt;              /* [N] error weights (Adams with projection) */
+    SUNMatrix A;               /* BDF: dense Jacobian */
+    SUNLinearSolver LS;        /* BDF: dense LU */
+    SUNNonlinearSolver NLS;    /* Adams: fixed point */
+    void *mem;                 /* CVODE memory */
+    double *w;                 /* [N] a projected copy of a state */
+    double *r;                 /* [m] scratch */
+    int restart;               /* project at output times, restart on drift */
+    long banked_steps, banked_fails; /* counters before the last restart */
+    eom_sun_report rep;        /* why it stopped */
+} cvode;
+
+static const char *cv_name(const eom_integ *it)
+{
+    return it->o.method == EOM_BDF ? "bdf" : "adams";
+}
+
+static int cv_cb_result(eom_integ *it, cvode *c, int rc)
+{
+    return eom__sun_cb_result(it, &c->rep, rc);
+}
+
+static int cv_rhs(sunrealtype t, N_Vector y, N_Vector yd, void *user)
+{
+    eom_integ *it = user;
+    int rc = eom__integ_rhs(it, t, N_VGetArrayPointer(y),
+                            N_VGetArrayPointer(yd));
+    return cv_cb_result(it, it->impl, rc);
+}
+
+/* e[0..n) -= Y S^-1 C e[0..n): the M-orthogonal projection onto the null
+ * space of C, with C, Y = M^-1 C^T and the factors of S left by the
+ * projection that just ran. */
+static int tangent(eom_system *s, double *e, double *r)
+{
+    const int n = s->n, m = s->m;
+    int i, j, rc;
+    for (j = 0; j < m; j++) {
+        double sum = 0.0;
+        for (i = 0; i < n; i++)
+            sum += s->C[(size_t)j * (size_t)n + (size_t)i] * e[i];
+        r[j] = sum;
+    }
+    if ((rc = eom__S_solve(s, r)) != EOM_OK)
+        return rc;
+    for (j = 0; j < m; j++)
+        for (i = 0; i < n; i++)
+            e[i] -= s->Y[(size_t)j * (size_t)n + (size_t)i] * r[j];
+    return EOM_OK;
+}
+
+/* CVODE's projection (BDF): corr = P(ycur) - ycur, ycur left alone; err,
+ * when CVODE asks for it, projected onto the tangent space (position and
+ * velocity parts alike; the dC/dq term of the velocity constraint is
+ * neglected, an approximation that affects only the choice of the step,
+ * not the solution). epsProj is not used: the projection iterates to
+ * o.proj_tol on |phi|. */
+static int cv_project(sunrealtype t, N_Vector ycur, N_Vector corr,
+                      sunrealtype epsProj, N_Vector err, void *user)
+{
+    eom_integ *it = user;
+    cvode *c = it->impl;
+    const double *y = N_VGetArrayPointer(ycur);
+    double *dy = N_VGetArrayPointer(corr);
+    /* it->t is the last output time; the messages should name this step */
+    const double t_out = it->t;
+    int i, rc;
+    (void)epsProj;
+    memcpy(c->w, y, (size_t)it->N * sizeof(double));
+    it->t = t;
+    rc = eom__integ_project(it, c->w);
+    it->t = t_out;
+    if (rc == EOM_OK) {
+        for (i = 0; i < it->N; i++)
+            dy[i] = c->w[i] - y[i];
+        if (err) {
+            double *e = N_VGetArrayPointer(err);
+            rc = tangent(it->s, e, c->r);
+            if (rc == EOM_OK)
+                rc = tangent(it->s, e + it->n, c->r);
+            if (rc != EOM_OK)
+                snprintf(it->msg, sizeof it->msg, "at t = %.17g: %s", t,
+                         it->s->msg);
+        }
+    }
+    return cv_cb_result(it, c, rc);
+}
+
+/* A failed setup call: a status and a message naming it. */
+static int cv_setup_failed(eom_integ *it, int flag, const char *call)
+{
+    return eom__sun_setup_failed(it, CVodeGetReturnFlagName(flag),
+                                 flag == CV_MEM_FAIL, call);
+}
+
+static void cv_destroy(eom_integ *it)
+{
+    cvode *c = it->impl;
+    if (!c)
+        return;
+    CVodeFree(&c->mem);
+    if (c->NLS)
+        SUNNonlinSolFree(c->NLS);
+    if (c->LS)
+        SUNLinSolFree(c->LS);
+    if (c->A)
+        SUNMatDestroy(c->A);
+    if (c->ewt)
+        N_VDestroy(c->ewt);
+    if (c->y)
+        N_VDestroy(c->y);
+    if (c->ctx)
+        SUNContext_Free(&c->ctx);
+    free(c->w);
+    free(c->r);
+    free(c);
+    it->impl = NULL;
+}
+
+/* The pieces of one method: nonlinear and linear solvers, projection. */
+static int cv_init_method(eom_integ *it, cvode *c)
+{
+    const int N = it->N, m = it->s->m;
+    int flag;
+    if (it->o.method == EOM_ADAMS) {
+        c->NLS = SUNNonlinSol_FixedPoint(c->y, 0, c->ctx);
+        if (!c->NLS)
+            return eom__integ_nomem(it);
+        if ((flag = CVodeSetNonlinearSolver(c->mem, c->NLS)) < 0)
+            return cv_setup_failed(it, flag, "CVodeSetNonlinearSolver");
+        c->restart = m > 0 && it->o.project;
+        if (c->restart && !(c->ewt = N_VClone(c->y)))
+            return eom__integ_nomem(it);
+        return EOM_OK;
+    }
+    c->A = SUNDenseMatrix(N, N, c->ctx);
+    if (!c->A)
+        return eom__integ_nomem(it);
+    c->LS = SUNLinSol_Dense(c->y, c->A, c->ctx);
+    if (!c->LS)
+        return eom__integ_nomem(it);
+    if ((flag = CVodeSetLinearSolver(c->mem, c->LS, c->A)) < 0)
+        return cv_setup_failed(it, flag, "CVodeSetLinearSolver");
+    if (m > 0 && it->o.project &&
+        (flag = CVodeSetProjFn(c->mem, cv_project)) < 0)
+        return cv_setup_failed(it, flag, "CVodeSetProjFn");
+    return EOM_OK;
+}
+
+static int cv_init(eom_integ *it)
+{
+    cvode *c = calloc(1, sizeof *c);
+    const size_t N = (size_t)it->N, m = (size_t)it->s->m;
+    int flag;
+    if (!c)
+        return eom__integ_nomem(it);
+    it->impl = c;
+    c->w = calloc(N, sizeof(double));
+    c->r = calloc(m > 0 ? m : 1, sizeof(double));
+    if (!c->w || !c->r)
+        return eom__integ_nomem(it);
+    if (SUNContext_Create(NULL, &c->ctx) != 0) {
+        c->ctx = NULL;
+        return eom__integ_nomem(it);
+    }
+    c->y = N_VNew_Serial((sunindextype)N, c->ctx);
+    if (!c->y)
+        return eom__integ_nomem(it);
+    memcpy(N_VGetArrayPointer(c->y), it->y, N * sizeof(double));
+    c->mem = CVodeCreate(it->o.method == EOM_BDF ? CV_BDF : CV_ADAMS,
+                         c->ctx);
+    if (!c->mem)
+        return eom__integ_nomem(it);
+    if ((flag = CVodeSetErrHandlerFn(c->mem, eom__sun_error, &c->rep)) < 0)
+        return cv_setup_failed(it, flag, "CVodeSetErrHandlerFn");
+    if ((flag = CVodeInit(c->mem, cv_rhs, it->t, c->y)) < 0)
+        return cv_setup_failed(it, flag, "CVodeInit");
+    if ((flag = CVodeSetUserData(c->mem, it)) < 0)
+        return cv_setup_failed(it, flag, "CVodeSetUserData");
+    if ((flag = CVodeSStolerances(c->mem, it->o.rtol, it->o.atol)) < 0)
+        return cv_setup_failed(it, flag, "CVodeSStolerances");
+    /* explicitly: the default of 500 would stop tight-tolerance runs */
+    if ((flag = CVodeSetMaxNumSteps(c->mem, it->o.max_steps)) < 0)
+        return cv_setup_failed(it, flag, "CVodeSetMaxNumSteps");
+    if (it->o.dt > 0.0 && (flag = CVodeSetInitStep(c->mem, it->o.dt)) < 0)
+        return cv_setup_failed(it, flag, "CVodeSetInitStep");
+    return cv_init_method(it, c);
+}
+
+/* Counters that CVodeReInit is about to zero. */
+static void cv_bank(cvode *c)
+{
+    long nst = 0, netf = 0, ncfn = 0;
+    CVodeGetNumSteps(c->mem, &nst);
+    CVodeGetNumErrTestFails(c->mem, &netf);
+    CVodeGetNumNonlinSolvConvFails(c->mem, &ncfn);
+    c->banked_steps += nst;
+    c->banked_fails += netf + ncfn;
+}
+
+/* At tout, with the solver's state in c->y: the state for the caller,
+ * projected (or only its residual tracked) when the system has
+ * constraints, and for Adams a restart from it when the drift exceeds the
+ * local error tolerance. */
+static int cv_output(eom_integ *it, cvode *c, double tout)
+{
+    const int N = it->N;
+    double *y = N_VGetArrayPointer(c->y);
+    int rc, flag, i;
+    it->t = tout;
+    memcpy(c->w, y, (size_t)N * sizeof(double));
+    if (it->s->m > 0 && (rc = eom__integ_project(it, c->w)) != EOM_OK)
+        return eom__integ_fail(it, rc, "%s: %s", cv_name(it), it->msg);
+    if (c->restart) {
+        const double *ewt = N_VGetArrayPointer(c->ewt);
+        double sum = 0.0;
+        CVodeGetErrWeights(c->mem, c->ewt);
+        for (i = 0; i < N; i++) {
+            const double d = (c->w[i] - y[i]) * ewt[i];
+            sum += d * d;
+        }
+        if (sqrt(sum / N) > 1.0) {
+            cv_bank(c);
+            memcpy(y, c->w, (size_t)N * sizeof(double));
+            if ((flag = CVodeReInit(c->mem, tout, c->y)) < 0) {
+                rc = cv_setup_failed(it, flag, "CVodeReInit");
+                return eom__integ_fail(it, rc, "%s: %s", cv_name(it),
+                                       it->msg);
+            }
+        }
+    }
+    memcpy(it->y, c->w, (size_t)N * sizeof(double));
+    return EOM_OK;
+}
+
+static int cv_advance(eom_integ *it, double tout)
+{
+    cvode *c = it->impl;
+    const double t_last = it->t;
+    sunrealtype tret = it->t, tcur = it->t, hlast = 0.0;
+    int flag, status;
+    eom__sun_report_reset(&c->rep);
+    flag = CVodeSetMinStep(c->mem, eom__sun_min_step(it->t, tout));
+    if (flag >= 0)
+        flag = CVodeSetStopTime(c->mem, tout);
+    if (flag >= 0)
+        flag = CVode(c->mem, tout, c->y, &tret, CV_NORMAL);
+    CVodeGetCurrentTime(c->mem, &tcur);
+    if (flag >= 0) {
+        /* a success that did not reach tout is not one */
+        CVodeGetLastStep(c->mem, &hlast);
+        if (tcur < tout - 100.0 * DBL_EPSILON * (fabs(tout) + fabs(hlast)))
+            return eom__integ_fail(it, EOM_ERR_SOLVER,
+                                   "%s: stopped at t = %.17g before tout "
+                                   "= %.17g (last step %.3g)", cv_name(it),
+                                   tcur, tout, hlast);
+        status = cv_output(it, c, tout);
+        if (status != EOM_OK)
+            it->t = t_last; /* it->y still holds the state at t_last */
+        return status;
+    }
+    /* it->y keeps the state at the last output time */
+    return eom__sun_failed(it, &c->rep, cv_name(it),
+                           CVodeGetReturnFlagName(flag), tcur);
+}
+
+static void cv_stats(const eom_integ *it, eom_stats *st)
+{
+    const cvode *c = it->impl;
+    long nst = 0, netf = 0, ncfn = 0, nje = 0;
+    CVodeGetNumSteps(c->mem, &nst);
+    CVodeGetNumErrTestFails(c->mem, &netf);
+    CVodeGetNumNonlinSolvConvFails(c->mem, &ncfn);
+    if (c->LS)
+        CVodeGetNumJacEvals(c->mem, &nje);
+    st->steps = c->banked_steps + nst;
+    st->failures = c->banked_fails + netf + ncfn;
+    st->jac_evals = nje;
+    /* rhs_evals: the common counter, which also sees the difference
+     * quotients of the Jacobian (CVODE counts those apart) */
+}
+
+const eom_integ_ops eom__cvode_ops = {"cvode", cv_init, cv_advance, cv_stats,
+                                      cv_destroy};

@@ -1,0 +1,350 @@
+/* integrate_ida.c - EOM_IDA: IDA (variable-order BDF for implicit DAEs,
+ * Newton iteration, dense direct linear solver with IDA's difference-
+ * quotient Jacobian) on the index-1 form of Lagrange's equations.
+ *
+ * Unknowns Y = (q, v, lambda, W): n + n + m + 1 values. Residuals
+ *
+ *     q' - v                            = 0   (n)
+ *     M(q) v' - F(q, v, t) - C(q)^T lambda = 0   (n)
+ *     C(q) v' - gamma(q, v)             = 0   (m)
+ *     W' + P(q, v, t)                   = 0   (1)
+ *
+ * with F = dL/dq - (d2L/dqd dq) v - dR/dqd + Q, gamma = -(d2phi/dq2)[v, v]
+ * (minus the Baumgarte terms when they are on) and P = v . (-dR/dqd + Q),
+ * all from one eom__evaluate at (t, q, v). The constraints enter at
+ * acceleration level only, so lambda is algebraic and the index is 1
+ * (the matrix [M -C^T; C 0] is nonsingular when C has full rank). lambda
+ * is flagged algebraic (IDASetId) and left out of the error test
+ * (IDASetSuppressAlg): it is a by-product, not part of the state reported.
+ * The initial Y' and lambda come from the right-hand side at t0, so the
+ * initial values are consistent and IDACalcIC is not needed.
+ *
+ * Drift: phi = 0 and C v = 0 are not part of the index-1 system and drift
+ * like the integration error. At output times the state is projected; the
+ * caller receives the projected state, and IDA restarts from it
+ * (IDAReInit with a consistent Y', order 1) only when the correction
+ * exceeds the local error tolerance (WRMS norm with IDA's weights > 1).
+ * IDAReInit zeroes IDA's counters; they are banked first. Baumgarte
+ * stabilization (eom_set_baumgarte) is the alternative, the user's choice.
+ *
+ * Output times: the stop time is tout, so the state returned is a step
+ * result. rhs_evals counts residual evaluations (each one evaluation of
+ * the model), including those of the difference-quotient Jacobian.
+ */
+#include <float.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <ida/ida.h>
+#include <ida/ida_ls.h>
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_context.h>
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunmatrix/sunmatrix_dense.h>
+
+#include "integrate_internal.h"
+
+typedef struct ida {
+    SUNContext ctx;
+    int NY;                    /* 2n + m + 1 */
+    N_Vector yy, yp;           /* [NY] Y and Y' */
+    N_Vector id;               /* [NY] 1 differential, 0 algebraic */
+    N_Vector ewt;              /* [NY] error weights */
+    SUNMatrix A;
+    SUNLinearSolver LS;
+    void *mem;                 /* IDA memory */
+    double *w, *wd;            /* [N] a state (q, v, W) and its rate */
+    long banked_steps, banked_fails, banked_jacs; /* before the last
+                                                     restart */
+    int jacs_stale;            /* IDA keeps its old Jacobian count until
+                                  the first solve after a restart */
+    eom_sun_report rep;        /* why it stopped */
+} ida;
+
+static int ida_cb_result(eom_integ *it, ida *d, int rc)
+{
+    return eom__sun_cb_result(it, &d->rep, rc);
+}
+
+static int ida_res(sunrealtype t, N_Vector yy, N_Vector yp, N_Vector rr,
+                   void *user)
+{
+    eom_integ *it = user;
+    ida *d = it->impl;
+    eom_system *s = it->s;
+    const int n = it->n, m = s->m;
+    const double *Y = N_VGetArrayPointer(yy), *P = N_VGetArrayPointer(yp);
+    const double *lam = Y + 2 * n, *vd = P + n;
+    double *r = N_VGetArrayPointer(rr);
+    int i, j, k, rc;
+    it->st.rhs_evals++;
+    rc = eom__evaluate(s, t, Y);
+    if (rc != EOM_OK) {
+        snprintf(it->msg, sizeof it->msg, "at t = %.17g: %s", t, s->msg);
+        return ida_cb_result(it, d, rc);
+    }
+    for (i = 0; i < n; i++) {
+        const double *Mi = s->M + (size_t)i * (size_t)n;
+        double sum = -s->F[i];
+        for (k = 0; k < n; k++)
+            sum += Mi[k] * vd[k];
+        for (j = 0; j < m; j++)
+            sum -= s->C[(size_t)j * (size_t)n + (size_t)i] * lam[j];
+        r[i] = P[i] - Y[n + i];
+        r[n + i] = sum;
+    }
+    for (j = 0; j < m; j++) {
+        const double *Cj = s->C + (size_t)j * (size_t)n;
+        double sum = -s->gam[j];
+        for (k = 0; k < n; k++)
+            sum += Cj[k] * vd[k];
+        r[2 * n + j] = sum;
+    }
+    r[2 * n + m] = P[2 * n + m] + s->power;
+    if (!eom__finite(r, (size_t)d->NY)) {
+        snprintf(it->msg, sizeof it->msg,
+                 "at t = %.17g: the DAE residual is not finite", t);
+        return ida_cb_result(it, d, EOM_ERR_NONFINITE);
+    }
+    return ida_cb_result(it, d, EOM_OK);
+}
+
+/* A failed setup call: a status and a message naming it. */
+static int ida_setup_failed(eom_integ *it, int flag, const char *call)
+{
+    return eom__sun_setup_failed(it, IDAGetReturnFlagName(flag),
+                                 flag == IDA_MEM_FAIL, call);
+}
+
+/* Y and a consistent Y' from the state d->w = (q, v, W) at t: lambda and
+ * v' from the right-hand side (lambda' is not part of the residual). */
+static int ida_consistent(eom_integ *it, ida *d, double t)
+{
+    const int n = it->n, m = it->s->m;
+    double *Y = N_VGetArrayPointer(d->yy), *P = N_VGetArrayPointer(d->yp);
+    int rc = eom__integ_rhs(it, t, d->w, d->wd);
+    if (rc != EOM_OK)
+        return rc;
+    memcpy(Y, d->w, 2 * (size_t)n * sizeof(double));
+    memcpy(P, d->wd, 2 * (size_t)n * sizeof(double));
+    if (m > 0)
+        memcpy(Y + 2 * n, it->s->lam, (size_t)m * sizeof(double));
+    memset(P + 2 * n, 0, (size_t)m * sizeof(double));
+    Y[2 * n + m] = d->w[2 * n];
+    P[2 * n + m] = d->wd[2 * n];
+    return EOM_OK;
+}
+
+static void ida_destroy(eom_integ *it)
+{
+    ida *d = it->impl;
+    if (!d)
+        return;
+    IDAFree(&d->mem);
+    if (d->LS)
+        SUNLinSolFree(d->LS);
+    if (d->A)
+        SUNMatDestroy(d->A);
+    if (d->yy)
+        N_VDestroy(d->yy);
+    if (d->yp)
+        N_VDestroy(d->yp);
+    if (d->id)
+        N_VDestroy(d->id);
+    if (d->ewt)
+        N_VDestroy(d->ewt);
+    if (d->ctx)
+        SUNContext_Free(&d->ctx);
+    free(d->w);
+    free(d->wd);
+    free(d);
+    it->impl = NULL;
+}
+
+/* IDA's options and linear solver, once IDAInit has run. */
+static int ida_setup(eom_integ *it, ida *d)
+{
+    const int m = it->s->m;
+    int flag;
+    if ((flag = IDASetUserData(d->mem, it)) < 0)
+        return ida_setup_failed(it, flag, "IDASetUserData");
+    if ((flag = IDASStolerances(d->mem, it->o.rtol, it->o.atol)) < 0)
+        return ida_setup_failed(it, flag, "IDASStolerances");
+    /* explicitly: the default of 500 would stop tight-tolerance runs */
+    if ((flag = IDASetMaxNumSteps(d->mem, it->o.max_steps)) < 0)
+        return ida_setup_failed(it, flag, "IDASetMaxNumSteps");
+    if (it->o.dt > 0.0 && (flag = IDASetInitStep(d->mem, it->o.dt)) < 0)
+        return ida_setup_failed(it, flag, "IDASetInitStep");
+    if (m > 0) {
+        if ((flag = IDASetId(d->mem, d->id)) < 0)
+            return ida_setup_failed(it, flag, "IDASetId");
+        if ((flag = IDASetSuppressAlg(d->mem, SUNTRUE)) < 0)
+            return ida_setup_failed(it, flag, "IDASetSuppressAlg");
+    }
+    d->A = SUNDenseMatrix(d->NY, d->NY, d->ctx);
+    if (!d->A)
+        return eom__integ_nomem(it);
+    d->LS = SUNLinSol_Dense(d->yy, d->A, d->ctx);
+    if (!d->LS)
+        return eom__integ_nomem(it);
+    if ((flag = IDASetLinearSolver(d->mem, d->LS, d->A)) < 0)
+        return ida_setup_failed(it, flag, "IDASetLinearSolver");
+    return EOM_OK;
+}
+
+static int ida_init(eom_integ *it)
+{
+    ida *d = calloc(1, sizeof *d);
+    const int n = it->n, m = it->s->m;
+    const size_t N = (size_t)it->N;
+    double *id;
+    int flag, rc, i;
+    if (!d)
+        return eom__integ_nomem(it);
+    it->impl = d;
+    d->NY = 2 * n + m + 1;
+    d->w = calloc(N, sizeof(double));
+    d->wd = calloc(N, sizeof(double));
+    if (!d->w || !d->wd)
+        return eom__integ_nomem(it);
+    if (SUNContext_Create(NULL, &d->ctx) != 0) {
+        d->ctx = NULL;
+        return eom__integ_nomem(it);
+    }
+    d->yy = N_VNew_Serial(d->NY, d->ctx);
+    if (!d->yy)
+        return eom__integ_nomem(it);
+    d->yp = N_VClone(d->yy);
+    d->id = N_VClone(d->yy);
+    d->ewt = N_VClone(d->yy);
+    if (!d->yp || !d->id || !d->ewt)
+        return eom__integ_nomem(it);
+    id = N_VGetArrayPointer(d->id);
+    for (i = 0; i < d->NY; i++)
+        id[i] = i >= 2 * n && i < 2 * n + m ? 0.0 : 1.0;
+    memcpy(d->w, it->y, N * sizeof(double));
+    if ((rc = ida_consistent(it, d, it->t)) != EOM_OK)
+        return rc;
+    d->mem = IDACreate(d->ctx);
+    if (!d->mem)
+        return eom__integ_nomem(it);
+    if ((flag = IDASetErrHandlerFn(d->mem, eom__sun_error, &d->rep)) < 0)
+        return ida_setup_failed(it, flag, "IDASetErrHandlerFn");
+    if ((flag = IDAInit(d->mem, ida_res, it->t, d->yy, d->yp)) < 0)
+        return ida_setup_failed(it, flag, "IDAInit");
+    return ida_setup(it, d);
+}
+
+/* Counters that IDAReInit is about to zero. */
+static void ida_bank(ida *d)
+{
+    long nst = 0, netf = 0, ncfn = 0, nje = 0;
+    IDAGetNumSteps(d->mem, &nst);
+    IDAGetNumErrTestFails(d->mem, &netf);
+    IDAGetNumNonlinSolvConvFails(d->mem, &ncfn);
+    if (!d->jacs_stale)
+        IDAGetNumJacEvals(d->mem, &nje);
+    d->banked_steps += nst;
+    d->banked_fails += netf + ncfn;
+    d->banked_jacs += nje;
+    d->jacs_stale = 1;
+}
+
+/* The WRMS norm, with IDA's weights, of the change from the solver's
+ * (q, v, W) to d->w. */
+static double ida_change(eom_integ *it, ida *d)
+{
+    const int n = it->n, m = it->s->m, N = it->N;
+    const double *Y = N_VGetArrayPointer(d->yy);
+    const double *ewt = N_VGetArrayPointer(d->ewt);
+    double sum = 0.0, e;
+    int i;
+    IDAGetErrWeights(d->mem, d->ewt);
+    for (i = 0; i < 2 * n; i++) {
+        e = (d->w[i] - Y[i]) * ewt[i];
+        sum += e * e;
+    }
+    e = (d->w[2 * n] - Y[2 * n + m]) * ewt[2 * n + m];
+    sum += e * e;
+    return sqrt(sum / N);
+}
+
+/* At tout, with the solver's state in d->yy: the state for the caller,
+ * projected (or only its residual tracked) when the system has
+ * constraints, and a restart from it when the drift exceeds the local
+ * error tolerance. */
+static int ida_output(eom_integ *it, ida *d, double tout)
+{
+    const int n = it->n, m = it->s->m;
+    const double *Y = N_VGetArrayPointer(d->yy);
+    int rc, flag;
+    it->t = tout;
+    memcpy(d->w, Y, 2 * (size_t)n * sizeof(double));
+    d->w[2 * n] = Y[2 * n + m];
+    if (m > 0 && (rc = eom__integ_project(it, d->w)) != EOM_OK)
+        return eom__integ_fail(it, rc, "ida: %s", it->msg);
+    if (m > 0 && it->o.project && ida_change(it, d) > 1.0) {
+        if ((rc = ida_consistent(it, d, tout)) != EOM_OK)
+            return eom__integ_fail(it, rc, "ida: %s", it->msg);
+        ida_bank(d);
+        if ((flag = IDAReInit(d->mem, tout, d->yy, d->yp)) < 0) {
+            rc = ida_setup_failed(it, flag, "IDAReInit");
+            return eom__integ_fail(it, rc, "ida: %s", it->msg);
+        }
+    }
+    memcpy(it->y, d->w, (size_t)it->N * sizeof(double));
+    return EOM_OK;
+}
+
+static int ida_advance(eom_integ *it, double tout)
+{
+    ida *d = it->impl;
+    const double t_last = it->t;
+    sunrealtype tret = it->t, tcur = it->t, hlast = 0.0;
+    int flag, status;
+    eom__sun_report_reset(&d->rep);
+    flag = IDASetMinStep(d->mem, eom__sun_min_step(it->t, tout));
+    if (flag >= 0)
+        flag = IDASetStopTime(d->mem, tout);
+    if (flag >= 0) {
+        flag = IDASolve(d->mem, tout, &tret, d->yy, d->yp, IDA_NORMAL);
+        d->jacs_stale = 0;
+    }
+    IDAGetCurrentTime(d->mem, &tcur);
+    if (flag >= 0) {
+        /* a success that did not reach tout is not one */
+        IDAGetLastStep(d->mem, &hlast);
+        if (tcur < tout - 100.0 * DBL_EPSILON * (fabs(tout) + fabs(hlast)))
+            return eom__integ_fail(it, EOM_ERR_SOLVER,
+                                   "ida: stopped at t = %.17g before tout "
+                                   "= %.17g (last step %.3g)", tcur, tout,
+                                   hlast);
+        status = ida_output(it, d, tout);
+        if (status != EOM_OK)
+            it->t = t_last; /* it->y still holds the state at t_last */
+        return status;
+    }
+    /* it->y keeps the state at the last output time */
+    return eom__sun_failed(it, &d->rep, "ida", IDAGetReturnFlagName(flag),
+                           tcur);
+}
+
+static void ida_stats(const eom_integ *it, eom_stats *st)
+{
+    const ida *d = it->impl;
+    long nst = 0, netf = 0, ncfn = 0, nje = 0;
+    IDAGetNumSteps(d->mem, &nst);
+    IDAGetNumErrTestFails(d->mem, &netf);
+    IDAGetNumNonlinSolvConvFails(d->mem, &ncfn);
+    if (!d->jacs_stale)
+        IDAGetNumJacEvals(d->mem, &nje);
+    st->steps = d->banked_steps + nst;
+    st->failures = d->banked_fails + netf + ncfn;
+    st->jac_evals = d->banked_jacs + nje;
+    /* rhs_evals: the common counter, which ida_res also increments */
+}
+
+const eom_integ_ops eom__ida_ops = {"ida", ida_init, ida_advance, ida_stats,
+                                    ida_destroy};

@@ -1,0 +1,75 @@
+/* integrate_sundials.c - what the SUNDIALS methods (ERK, Adams/BDF, IDA)
+ * share: turning a callback's status into the solver's convention and
+ * remembering why, keeping the solver's own error message instead of
+ * letting it print, setup failures, and the smallest step of an advance. */
+#include <float.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "integrate_internal.h"
+
+void eom__sun_report_reset(eom_sun_report *r)
+{
+    r->cb_status = EOM_OK;
+    r->cb_msg[0] = '\0';
+    r->sun_msg[0] = '\0';
+}
+
+int eom__sun_cb_result(eom_integ *it, eom_sun_report *r, int rc)
+{
+    r->cb_status = rc;
+    if (rc == EOM_OK)
+        return 0;
+    memcpy(r->cb_msg, it->msg, sizeof r->cb_msg);
+    /* a non-finite result may go away with a smaller step: recoverable */
+    return rc == EOM_ERR_NONFINITE ? 1 : -1;
+}
+
+void eom__sun_error(int code, const char *module, const char *function,
+                    char *msg, void *user)
+{
+    eom_sun_report *r = user;
+    (void)module;
+    /* warnings describe recoverable events; keep only errors */
+    if (code < 0)
+        snprintf(r->sun_msg, sizeof r->sun_msg, "%s: %s", function, msg);
+}
+
+int eom__integ_nomem(eom_integ *it)
+{
+    snprintf(it->msg, sizeof it->msg, "out of memory");
+    return EOM_ERR_NOMEM;
+}
+
+int eom__sun_setup_failed(eom_integ *it, char *flag_name, int mem_fail,
+                          const char *call)
+{
+    snprintf(it->msg, sizeof it->msg, "%s failed: %s", call,
+             flag_name ? flag_name : "unknown flag");
+    free(flag_name);
+    return mem_fail ? EOM_ERR_NOMEM : EOM_ERR_SOLVER;
+}
+
+int eom__sun_failed(eom_integ *it, const eom_sun_report *r,
+                    const char *method, char *flag_name, double t)
+{
+    /* a failed callback is the cause; otherwise the solver's own error */
+    const int status = r->cb_status != EOM_OK ? r->cb_status : EOM_ERR_SOLVER;
+    eom__integ_fail(it, status, "%s: %s at t = %.17g: %s", method,
+                    flag_name ? flag_name : "unknown flag", t,
+                    r->cb_status != EOM_OK ? r->cb_msg : r->sun_msg);
+    free(flag_name);
+    return status;
+}
+
+/* 4 ulp of tout, but at most 1e-9 of the interval. Without a floor, a
+ * solver facing a point it cannot pass shrinks the step until t + h == t
+ * and stalls there until max_steps, or, once h is subnormal, mistakes the
+ * point for tout (CVODE's test (tn - tout) * h >= 0 underflows to -0.0 >=
+ * 0, and it reports success at a time it never reached). */
+double eom__sun_min_step(double t, double tout)
+{
+    return fmin(4.0 * DBL_EPSILON * fabs(tout), 1e-9 * (tout - t));
+}
