@@ -150,6 +150,12 @@ int eom__factor_S(eom_system *s);
 /* Solve S z = b in place (m values). */
 int eom__S_solve(eom_system *s, double *b);
 
+/* Full SVD of the rows x cols column-major A (destroyed): singular values
+ * sv, all of U (rows x rows) and V^T (cols x cols), column-major (linalg.c).
+ * what names the matrix in a failure message. */
+int eom__svd(eom_system *s, int rows, int cols, double *A, double *sv,
+             double *U, double *VT, const char *what);
+
 /* Status with a message in s (first argument printf-style). */
 int eom__fail(eom_system *s, int status, const char *fmt, ...)
 #if defined(__GNUC__)
