@@ -44,6 +44,7 @@ int eom_project(eom_system *s, double *x, double tol, int *iters)
         *iters = 0;
     if (!s)
         return EOM_ERR_NULL;
+    s->msg[0] = '\0';
     if (!x)
         return eom__fail(s, EOM_ERR_NULL, "eom_project: x is NULL");
     if (!(tol > 0.0))

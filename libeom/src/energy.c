@@ -14,6 +14,7 @@ int eom_energy_at(eom_system *s, double t, const double *x, eom_energy *e)
     int st, rc, i;
     if (!s)
         return EOM_ERR_NULL;
+    s->msg[0] = '\0';
     if (!x || !e)
         return eom__fail(s, EOM_ERR_NULL, "eom_energy_at: NULL argument");
     if (!isfinite(t) || !eom__finite(x, 2 * (size_t)n))
@@ -59,6 +60,7 @@ int eom_probes_at(eom_system *s, const double *x, double *p)
     int st, rc;
     if (!s)
         return EOM_ERR_NULL;
+    s->msg[0] = '\0';
     if (s->nprobe == 0)
         return EOM_OK;
     if (!x || !p)

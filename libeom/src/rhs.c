@@ -66,11 +66,14 @@ static int klu_factor_S(eom_system *s, bool fresh)
         klu_free_numeric(&s->knum, &s->kc);
     if (!s->knum) {
         s->knum = klu_factor(s->Sp, s->Si, s->Sx, s->ksym, &s->kc);
-        if (!s->knum)
+        if (!s->knum) {
+            s->rcond_S = 0.0; /* no estimate of a failed factorization */
             return s->kc.status == KLU_OUT_OF_MEMORY ? EOM_ERR_NOMEM
                                                      : EOM_ERR_RANK_DEFICIENT;
+        }
     } else if (!klu_refactor(s->Sp, s->Si, s->Sx, s->ksym, s->knum,
                              &s->kc)) {
+        s->rcond_S = 0.0;
         return s->kc.status == KLU_OUT_OF_MEMORY ? EOM_ERR_NOMEM
                                                  : EOM_ERR_RANK_DEFICIENT;
     }
@@ -103,7 +106,10 @@ int eom__factor_S(eom_system *s)
                          "C M^-1 C^T is not finite");
     memcpy(s->Sx, s->S, (size_t)m * (size_t)m * sizeof(double));
     rc = klu_factor_S(s, false);
-    if (rc == EOM_OK && s->rcond_S < EOM_RCOND_REFACTOR)
+    /* old pivots that fail or have degraded: factor afresh, with pivoting,
+     * before calling the constraints rank deficient */
+    if ((rc == EOM_OK && s->rcond_S < EOM_RCOND_REFACTOR) ||
+        rc == EOM_ERR_RANK_DEFICIENT)
         rc = klu_factor_S(s, true);
     if (rc == EOM_ERR_NOMEM)
         return eom__fail(s, rc, "KLU: out of memory");
@@ -222,6 +228,7 @@ int eom_mass_matrix(eom_system *s, const double *x, double *M)
     int st;
     if (!s)
         return EOM_ERR_NULL;
+    s->msg[0] = '\0';
     if (!x || !M)
         return eom__fail(s, EOM_ERR_NULL, "eom_mass_matrix: NULL argument");
     if (!eom__finite(x, 2 * (size_t)s->n))
@@ -236,6 +243,7 @@ int eom_constraint_jacobian(eom_system *s, const double *x, double *C,
     int rc;
     if (!s)
         return EOM_ERR_NULL;
+    s->msg[0] = '\0';
     if (!x || !C)
         return eom__fail(s, EOM_ERR_NULL,
                          "eom_constraint_jacobian: NULL argument");
@@ -257,6 +265,7 @@ int eom_multipliers(eom_system *s, double t, const double *x,
     int rc;
     if (!s)
         return EOM_ERR_NULL;
+    s->msg[0] = '\0';
     if (!x || (!lambda && s->m > 0))
         return eom__fail(s, EOM_ERR_NULL, "eom_multipliers: NULL argument");
     if ((rc = eom__evaluate(s, t, x)) != EOM_OK)
@@ -272,6 +281,7 @@ int eom_residuals(eom_system *s, const double *x, double *phi,
     int st;
     if (!s)
         return EOM_ERR_NULL;
+    s->msg[0] = '\0';
     if (!x)
         return eom__fail(s, EOM_ERR_NULL, "eom_residuals: x is NULL");
     if (s->m == 0)
@@ -296,6 +306,7 @@ int eom_condition(eom_system *s, const double *x, double *rcond_M,
     int *iwork, info = 0, rc;
     if (!s)
         return EOM_ERR_NULL;
+    s->msg[0] = '\0';
     if (!x)
         return eom__fail(s, EOM_ERR_NULL, "eom_condition: x is NULL");
     if ((rc = eom_mass_matrix(s, x, s->M)) != EOM_OK)

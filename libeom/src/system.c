@@ -70,6 +70,14 @@ static int call_scalar(eom_ctx *c, const eom_callback *cb, const char *what,
         snprintf(c->msg, sizeof c->msg, "the %s callback returned %d", what,
                  rc);
     }
+    /* returned 0 without setting *out (and no operation failed) */
+    if (rc == 0 && out->tag == 0 && c->status == EOM_OK &&
+        tp_rec_status(c->r) == TP_OK) {
+        c->status = EOM_ERR_RECORD;
+        snprintf(c->msg, sizeof c->msg, "the %s callback did not set its "
+                 "value", what);
+        return 1;
+    }
     return rc;
 }
 
@@ -162,7 +170,8 @@ static int body_vector(eom_ctx *c, const eom_callback *cb, int count,
     }
     for (k = 0; k < count && rc == 0; k++) {
         snprintf(name, sizeof name, "%s%d", prefix, first + k + 1);
-        if (v[k].tag == 0 && c->status == EOM_OK) {
+        if (v[k].tag == 0 && c->status == EOM_OK &&
+            tp_rec_status(c->r) == TP_OK) {
             c->status = EOM_ERR_RECORD;
             snprintf(c->msg, sizeof c->msg,
                      "the %s callback did not set value %d of %d", what,
@@ -562,6 +571,7 @@ int eom_set_param(eom_system *s, int k, double value)
     int i;
     if (!s)
         return EOM_ERR_NULL;
+    s->msg[0] = '\0';
     if (!IN_RANGE(k, s->np))
         return eom__fail(s, EOM_ERR_ARG, "parameter %d outside 0 .. %d", k,
                          s->np - 1);
@@ -602,6 +612,7 @@ int eom_set_baumgarte(eom_system *s, double alpha, double beta)
 {
     if (!s)
         return EOM_ERR_NULL;
+    s->msg[0] = '\0';
     if (!(alpha >= 0.0) || !(beta >= 0.0) || !isfinite(alpha) ||
         !isfinite(beta))
         return eom__fail(s, EOM_ERR_ARG,
