@@ -1,0 +1,150 @@
+/* columns.c - CSV column names and row values for a system (see
+ * columns.h). */
+#include "columns.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* A copy of "<a><b>" (b may be ""), or NULL. */
+static char *join(const char *a, const char *b)
+{
+    size_t la = strlen(a), lb = strlen(b);
+    char *p = malloc(la + lb + 1);
+    if (p) {
+        memcpy(p, a, la);
+        memcpy(p + la, b, lb + 1);
+    }
+    return p;
+}
+
+/* A copy of "<base><k>", k >= 1, or NULL. */
+static char *numbered(const char *base, int k)
+{
+    char num[16];
+    snprintf(num, sizeof num, "%d", k);
+    return join(base, num);
+}
+
+void columns_free(columns **c)
+{
+    int i;
+    if (!c || !*c)
+        return;
+    for (i = 0; (*c)->names && i < (*c)->count; i++)
+        free((*c)->names[i]);
+    free((*c)->names);
+    free((*c)->phi);
+    free((*c)->phidot);
+    free(*c);
+    *c = NULL;
+}
+
+int columns_new(columns **out, const eom_system *s, char *err, size_t errlen)
+{
+    static const char *const fixed[] = {"T", "V", "E", "W"};
+    columns *c = calloc(1, sizeof *c);
+    int i, j, k = 0;
+    *out = NULL;
+    if (!c)
+        goto nomem;
+    c->n = eom_system_ncoords(s);
+    c->m = eom_system_nconstraints(s);
+    c->nprobes = eom_system_nprobes(s);
+    c->count = 1 + 2 * c->n + 4 + 2 * c->m + c->nprobes;
+    c->names = calloc((size_t)c->count, sizeof *c->names);
+    c->phi = calloc((size_t)c->m + 1, sizeof(double));
+    c->phidot = calloc((size_t)c->m + 1, sizeof(double));
+    if (!c->names || !c->phi || !c->phidot)
+        goto nomem;
+    c->names[k++] = join("t", "");
+    for (i = 0; i < c->n; i++)
+        c->names[k++] = join(eom_coord_name(s, i), "");
+    for (i = 0; i < c->n; i++)
+        c->names[k++] = join(eom_coord_name(s, i), "_dot");
+    for (i = 0; i < 4; i++)
+        c->names[k++] = join(fixed[i], "");
+    for (i = 0; i < c->m; i++)
+        c->names[k++] = numbered("phi", i + 1);
+    for (i = 0; i < c->m; i++)
+        c->names[k++] = numbered("phidot", i + 1);
+    for (i = 0; i < c->nprobes; i++)
+        c->names[k++] = join(eom_probe_name(s, i), "");
+    for (i = 0; i < c->count; i++)
+        if (!c->names[i])
+            goto nomem;
+    for (i = 0; i < c->count; i++)
+        for (j = i + 1; j < c->count; j++)
+            if (strcmp(c->names[i], c->names[j]) == 0) {
+                snprintf(err, errlen, "the CSV column name '%s' appears "
+                         "twice (a coordinate or probe is named like "
+                         "another column)", c->names[i]);
+                columns_free(&c);
+                return -1;
+            }
+    *out = c;
+    return 0;
+nomem:
+    snprintf(err, errlen, "out of memory");
+    columns_free(&c);
+    return -1;
+}
+
+/* Note the first failure of a row (status rc, message of s). */
+static int row_fail(columns *c, const eom_system *s, int status, int rc)
+{
+    if (status != EOM_OK)
+        return status;
+    snprintf(c->msg, sizeof c->msg, "%s", eom_system_errmsg(s));
+    return rc;
+}
+
+int columns_fill(columns *c, eom_system *s, double t, const double *x,
+                 double W, double *row, row_info *info)
+{
+    const int n = c->n, m = c->m;
+    double *after = row + 1 + 2 * n; /* T, V, E, W, residuals, probes */
+    int rc, status = EOM_OK, i;
+    row[0] = t;
+    memcpy(row + 1, x, 2 * (size_t)n * sizeof(double));
+    for (i = 0; i < 4 + 2 * m + c->nprobes; i++)
+        after[i] = NAN;
+    info->e.T = info->e.V = info->e.L = info->e.E = info->e.P = NAN;
+    info->phi_max = info->phidot_max = 0.0;
+    c->msg[0] = '\0';
+
+    rc = eom_energy_at(s, t, x, &info->e);
+    if (rc < 0) {
+        status = row_fail(c, s, status, rc);
+        info->e.T = info->e.V = info->e.L = info->e.E = info->e.P = NAN;
+    } else {
+        after[0] = info->e.T;
+        after[1] = info->e.V;
+        after[2] = info->e.E;
+    }
+    after[3] = W;
+    if (m > 0) {
+        rc = eom_residuals(s, x, c->phi, c->phidot);
+        if (rc < 0) {
+            status = row_fail(c, s, status, rc);
+            info->phi_max = info->phidot_max = NAN;
+        } else {
+            for (i = 0; i < m; i++) {
+                after[4 + i] = c->phi[i];
+                after[4 + m + i] = c->phidot[i];
+                info->phi_max = fmax(info->phi_max, fabs(c->phi[i]));
+                info->phidot_max = fmax(info->phidot_max, fabs(c->phidot[i]));
+            }
+        }
+    }
+    if (c->nprobes > 0) {
+        rc = eom_probes_at(s, x, after + 4 + 2 * m);
+        if (rc < 0) {
+            status = row_fail(c, s, status, rc);
+            for (i = 0; i < c->nprobes; i++)
+                after[4 + 2 * m + i] = NAN;
+        }
+    }
+    return status;
+}

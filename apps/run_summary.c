@@ -1,0 +1,58 @@
+/* run_summary.c - the end-of-run report (see run_summary.h). */
+#include "run_summary.h"
+
+#include <math.h>
+
+void run_summary_init(run_summary *r)
+{
+    r->rows = 0;
+    r->t_last = 0.0;
+    r->E0 = NAN;
+    r->drift = 0.0;
+    r->scale = 0.0;
+    r->phi_max = 0.0;
+    r->phidot_max = 0.0;
+}
+
+void run_summary_add(run_summary *r, double t, double W, const row_info *info)
+{
+    /* fmax ignores a NaN operand, so a row whose energies could not be
+     * computed leaves the maxima alone */
+    if (r->rows == 0)
+        r->E0 = info->e.E;
+    r->rows++;
+    r->t_last = t;
+    r->drift = fmax(r->drift, fabs(info->e.E + W - r->E0));
+    r->scale = fmax(r->scale, fmax(fabs(info->e.E), fabs(info->e.L)));
+    r->phi_max = fmax(r->phi_max, info->phi_max);
+    r->phidot_max = fmax(r->phidot_max, info->phidot_max);
+}
+
+void run_summary_print(const run_summary *r, FILE *f, const char *label,
+                       const char *method, const eom_stats *st,
+                       int nconstraints, double wall)
+{
+    eom_stats zero = {0, 0, 0, 0, 0, 0.0, 0.0};
+    if (!st)
+        st = &zero;
+    fprintf(f, "eom-run: %s with %s: %ld row%s, t = 0 .. %.10g\n", label,
+            method, r->rows, r->rows == 1 ? "" : "s", r->t_last);
+    fprintf(f, "  steps %ld, right-hand sides %ld, failed steps %ld, "
+            "Jacobians %ld\n", st->steps, st->rhs_evals, st->failures,
+            st->jac_evals);
+    fprintf(f, "  wall time %.3g s (integrator %.3g s)\n", wall,
+            st->wall_time);
+    if (r->scale > 0.0)
+        fprintf(f, "  energy drift max |E + W - E0| = %.3g, relative %.3g "
+                "(scale %.6g)\n", r->drift, r->drift / r->scale, r->scale);
+    else
+        fprintf(f, "  energy drift max |E + W - E0| = %.3g (energy scale "
+                "zero: no relative drift)\n", r->drift);
+    if (nconstraints > 0)
+        fprintf(f, "  constraint residual max |phi| = %.3g, max |C qd| = "
+                "%.3g, projections %ld\n",
+                fmax(r->phi_max, st->max_residual), r->phidot_max,
+                st->projections);
+    else
+        fprintf(f, "  constraint residual: none (no constraints)\n");
+}

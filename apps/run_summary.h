@@ -1,0 +1,42 @@
+/* run_summary.h - what eom-run reports on standard error at the end of a
+ * run: counts from the integrator, wall time, energy drift and constraint
+ * residuals, gathered from the rows as they are written.
+ *
+ * Energy drift (docs/cli.md): max over the rows of |E + W - E0|, where E0
+ * is E at t = 0, and the same relative to the energy scale
+ * max over the rows of max(|E|, |L|), which for a natural system is the
+ * largest T + |V| seen: a scale that does not vanish when E happens to be
+ * near zero. */
+#ifndef APPS_RUN_SUMMARY_H
+#define APPS_RUN_SUMMARY_H
+
+#include <stdio.h>
+
+#include "columns.h"
+#include "eom/eom.h"
+
+typedef struct run_summary {
+    long rows;         /* rows written */
+    double t_last;     /* time of the last row */
+    double E0;         /* E of the first row */
+    double drift;      /* max |E + W - E0| */
+    double scale;      /* max of max(|E|, |L|) */
+    double phi_max;    /* max |phi| over the rows */
+    double phidot_max; /* max |C qd| over the rows */
+} run_summary;
+
+void run_summary_init(run_summary *r);
+
+/* A row at time t with dissipated work W was written; info as filled by
+ * columns_fill (NaN values are ignored). */
+void run_summary_add(run_summary *r, double t, double W,
+                     const row_info *info);
+
+/* The report on f: label (the demo) and method name, st (NULL when no
+ * integrator was created), nconstraints of the system, wall the total
+ * wall time in seconds. */
+void run_summary_print(const run_summary *r, FILE *f, const char *label,
+                       const char *method, const eom_stats *st,
+                       int nconstraints, double wall);
+
+#endif /* APPS_RUN_SUMMARY_H */

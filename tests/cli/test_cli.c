@@ -1,0 +1,741 @@
+/* test_cli.c - eom-run seen from outside: each case runs the built
+ * program in a child process with its output captured, and checks the
+ * exit status, words of its messages and the CSV it writes (parsed back
+ * and compared with the spring pendulum's formulas, computed here).
+ *
+ * usage: test_cli EOM_RUN CASE [DOCS_CLI_MD]
+ * The environment variable EOM_CLI_WRAPPER, if set, is a command (words
+ * split at spaces) that eom-run runs under, for example
+ * "valgrind -q --error-exitcode=99 --leak-check=full". No check depends
+ * on timing. */
+#define _POSIX_C_SOURCE 200809L
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "check.h"
+
+static const char *eom_run;  /* path of the program under test */
+static const char *docs_cli; /* docs/cli.md, for the "help" case */
+static char tmpdir[256];     /* scratch directory of this process */
+
+/* ---- running eom-run ---------------------------------------------------- */
+
+typedef struct result {
+    int status;     /* exit status; 128 + signal when killed */
+    char *out, *err; /* everything written to stdout and stderr */
+} result;
+
+static char *read_file(const char *path, size_t *len)
+{
+    FILE *f = fopen(path, "rb");
+    char *buf = NULL;
+    size_t cap = 0, n = 0, got;
+    if (!f)
+        return NULL;
+    do {
+        if (n + 4096 + 1 > cap) {
+            char *p;
+            cap = 2 * cap + 4096 + 1;
+            p = realloc(buf, cap);
+            if (!p) {
+                free(buf);
+                fclose(f);
+                return NULL;
+            }
+            buf = p;
+        }
+        got = fread(buf + n, 1, 4096, f);
+        n += got;
+    } while (got > 0);
+    fclose(f);
+    buf[n] = '\0';
+    if (len)
+        *len = n;
+    return buf;
+}
+
+static void scratch(char *buf, size_t len, const char *name)
+{
+    snprintf(buf, len, "%s/%s", tmpdir, name);
+}
+
+static void result_free(result *r)
+{
+    free(r->out);
+    free(r->err);
+    r->out = r->err = NULL;
+}
+
+/* Run eom-run with args (NULL-terminated) and capture its output. */
+static void run(result *r, const char *const *args)
+{
+    char out_path[300], err_path[300], wrap[1024];
+    const char *argv[64];
+    const char *w = getenv("EOM_CLI_WRAPPER");
+    int argc = 0, st;
+    pid_t pid;
+
+    if (w && *w) {
+        char *tok;
+        snprintf(wrap, sizeof wrap, "%s", w);
+        for (tok = strtok(wrap, " "); tok && argc < 16;
+             tok = strtok(NULL, " "))
+            argv[argc++] = tok;
+    }
+    argv[argc++] = eom_run;
+    while (*args && argc < 63)
+        argv[argc++] = *args++;
+    argv[argc] = NULL;
+
+    scratch(out_path, sizeof out_path, "stdout.txt");
+    scratch(err_path, sizeof err_path, "stderr.txt");
+    fflush(NULL);
+    pid = fork();
+    if (pid == 0) {
+        int fo = open(out_path, O_WRONLY | O_CREAT | O_TRUNC, 0600);
+        int fe = open(err_path, O_WRONLY | O_CREAT | O_TRUNC, 0600);
+        if (fo < 0 || fe < 0 || dup2(fo, 1) < 0 || dup2(fe, 2) < 0)
+            _exit(126);
+        /* execvp's argv is char *const[]: the strings are not modified */
+        execvp(argv[0], (char *const *)(void *)argv);
+        _exit(127);
+    }
+    r->status = -1;
+    if (pid > 0 && waitpid(pid, &st, 0) == pid)
+        r->status = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+    r->out = read_file(out_path, NULL);
+    r->err = read_file(err_path, NULL);
+    if (!r->out || !r->err) {
+        fprintf(stderr, "cannot read the output of eom-run\n");
+        exit(EXIT_FAILURE);
+    }
+    unlink(out_path);
+    unlink(err_path);
+}
+
+/* s contains word (case-sensitive). */
+static int has(const char *s, const char *word)
+{
+    return s && strstr(s, word) != NULL;
+}
+
+#define CHECK_HAS(s, word)                                                 \
+    do {                                                                   \
+        check_count_++;                                                    \
+        if (!has((s), (word)))                                             \
+            CHECK_FAIL_("'%s' not found in %s:\n%s", (word), #s,          \
+                        (s) ? (s) : "(null)");                             \
+    } while (0)
+
+/* ---- reading the CSV ---------------------------------------------------- */
+
+typedef struct csv {
+    char header[1024];
+    int ncols, nrows;
+    double *v; /* nrows x ncols */
+} csv;
+
+/* Parse text as a CSV of numbers after one header row. Returns 0, or -1
+ * (with a failed check) if a row is ragged or a field is not a number. */
+static int csv_parse(const char *text, csv *c)
+{
+    const char *p = strchr(text, '\n'), *line;
+    int cap = 0;
+    memset(c, 0, sizeof *c);
+    if (!p || (size_t)(p - text) >= sizeof c->header) {
+        CHECK_FAIL_("CSV without a header row:\n%.200s", text);
+        return -1;
+    }
+    memcpy(c->header, text, (size_t)(p - text));
+    c->ncols = 1;
+    for (line = c->header; *line; line++)
+        c->ncols += *line == ',';
+    for (line = p + 1; *line; ) {
+        int j;
+        if (c->nrows == cap) {
+            cap = cap ? 2 * cap : 64;
+            c->v = realloc(c->v, (size_t)cap * (size_t)c->ncols *
+                                     sizeof(double));
+            if (!c->v)
+                exit(EXIT_FAILURE);
+        }
+        for (j = 0; j < c->ncols; j++) {
+            char *end;
+            double x = strtod(line, &end);
+            char want = j + 1 < c->ncols ? ',' : '\n';
+            if (end == line || *end != want) {
+                CHECK_FAIL_("CSV row %d, column %d is malformed: %.60s",
+                            c->nrows + 1, j + 1, line);
+                return -1;
+            }
+            c->v[c->nrows * c->ncols + j] = x;
+            line = end + 1;
+        }
+        c->nrows++;
+    }
+    return 0;
+}
+
+static double at(const csv *c, int row, int col)
+{
+    return c->v[row * c->ncols + col];
+}
+
+/* Run eom-run (args NULL-terminated, which must write the CSV to the
+ * scratch file out.csv) and parse the file. Returns the exit status. */
+static int run_csv(csv *c, const char *const *args, result *r)
+{
+    char path[300];
+    char *text;
+    scratch(path, sizeof path, "out.csv");
+    run(r, args);
+    text = read_file(path, NULL);
+    memset(c, 0, sizeof *c);
+    if (!text) {
+        CHECK_FAIL_("no CSV file written (status %d):\n%s", r->status,
+                    r->err);
+        return r->status;
+    }
+    csv_parse(text, c);
+    free(text);
+    unlink(path);
+    return r->status;
+}
+
+/* ---- the spring pendulum, independently -------------------------------- */
+
+enum { C_T, C_R, C_TH, C_RD, C_THD, C_KE, C_PE, C_E, C_W, NCOLS };
+static const char header[] = "t,r,theta,r_dot,theta_dot,T,V,E,W";
+
+typedef struct sp {
+    double m, k, r0, g;
+} sp;
+
+static double sp_T(const sp *p, const double *row)
+{
+    return 0.5 * p->m * (row[C_RD] * row[C_RD] +
+                         row[C_R] * row[C_R] * row[C_THD] * row[C_THD]);
+}
+
+static double sp_V(const sp *p, const double *row)
+{
+    double s = row[C_R] - p->r0;
+    return 0.5 * p->k * s * s + p->m * p->g * (p->r0 - row[C_R] *
+                                               cos(row[C_TH]));
+}
+
+/* Accelerations from Lagrange's equations, derived by hand. */
+static void sp_acc(const sp *p, const double *row, double *rdd, double *thdd)
+{
+    double r = row[C_R], th = row[C_TH], rd = row[C_RD], thd = row[C_THD];
+    *rdd = r * thd * thd - p->k / p->m * (r - p->r0) + p->g * cos(th);
+    *thdd = -(p->g * sin(th) + 2.0 * rd * thd) / r;
+}
+
+/* The checks every spring-pendulum CSV must pass: header, rows exactly
+ * at k * sample (and at t_end when it is off the grid), finite values,
+ * T and V from the row's own state, E = T + V, W = 0, E conserved to
+ * drift_tol relative, and accelerations from central differences of the
+ * rates that match the hand-derived equations of motion. */
+static void check_sp_csv(const csv *c, const sp *p, double sample,
+                         double t_end, int off_grid, double drift_tol)
+{
+    const int K = off_grid ? c->nrows - 2 : c->nrows - 1;
+    int i, j;
+    double E0;
+    CHECK(strcmp(c->header, header) == 0);
+    if (strcmp(c->header, header) != 0)
+        fprintf(stderr, "header: '%s'\n", c->header);
+    CHECK_INT(c->ncols, NCOLS);
+    if (c->ncols != NCOLS || c->nrows < 1)
+        return;
+    for (i = 0; i <= K; i++)
+        CHECK(at(c, i, C_T) == (double)i * sample);
+    if (off_grid)
+        CHECK(at(c, c->nrows - 1, C_T) == t_end);
+    else
+        CHECK_NEAR(at(c, c->nrows - 1, C_T), t_end, 1e-12);
+    E0 = at(c, 0, C_E);
+    for (i = 0; i < c->nrows; i++) {
+        const double *row = c->v + i * c->ncols;
+        int finite = 1;
+        for (j = 0; j < c->ncols; j++)
+            finite &= isfinite(row[j]) != 0;
+        CHECK(finite);
+        CHECK_NEAR(row[C_KE], sp_T(p, row), 1e-12);
+        CHECK_NEAR(row[C_PE], sp_V(p, row), 1e-12);
+        CHECK_NEAR(row[C_E], row[C_KE] + row[C_PE], 1e-12);
+        CHECK(row[C_W] == 0.0);
+        CHECK_NEAR(row[C_E] + row[C_W], E0, drift_tol);
+    }
+    /* central differences over the on-grid rows: error O(sample^2) */
+    for (i = 1; i + 1 <= K; i++) {
+        const double *row = c->v + i * c->ncols;
+        double rdd, thdd;
+        sp_acc(p, row, &rdd, &thdd);
+        CHECK_NEAR((at(c, i + 1, C_RD) - at(c, i - 1, C_RD)) / (2 * sample),
+                   rdd, 2e-2);
+        CHECK_NEAR((at(c, i + 1, C_THD) - at(c, i - 1, C_THD)) /
+                       (2 * sample), thdd, 2e-2);
+    }
+}
+
+static const sp sp_default = {1.0, 75.0, 1.0, 9.81};
+
+/* ---- cases -------------------------------------------------------------- */
+
+static void case_list(void)
+{
+    const char *args[] = {"--list", NULL};
+    result r;
+    run(&r, args);
+    CHECK_INT(r.status, 0);
+    CHECK_HAS(r.out, "spring-pendulum");
+    CHECK_HAS(r.out, "spring");
+    CHECK(r.err[0] == '\0');
+    result_free(&r);
+}
+
+/* The line of out whose first word is name contains every word of
+ * words (NULL-terminated) as a whole word. */
+static void check_describe_line(const char *out, const char *name,
+                                const char *const *words)
+{
+    const char *line = out;
+    while (line && *line) {
+        const char *end = strchr(line, '\n'), *p = line;
+        size_t len = end ? (size_t)(end - line) : strlen(line), nl;
+        char buf[512];
+        while (*p == ' ')
+            p++;
+        nl = strlen(name);
+        if (strncmp(p, name, nl) == 0 && p[nl] == ' ' &&
+            len < sizeof buf) {
+            int k;
+            memcpy(buf, line, len);
+            buf[len] = '\0';
+            for (k = 0; words[k]; k++) {
+                /* a whole word: bounded by blanks or the line's ends */
+                const char *q = buf;
+                size_t wl = strlen(words[k]);
+                int found = 0;
+                while ((q = strstr(q, words[k])) != NULL) {
+                    if ((q == buf || q[-1] == ' ') &&
+                        (q[wl] == ' ' || q[wl] == '\0')) {
+                        found = 1;
+                        break;
+                    }
+                    q++;
+                }
+                check_count_++;
+                if (!found)
+                    CHECK_FAIL_("--describe: '%s' missing on the line of "
+                                "%s: '%s'", words[k], name, buf);
+            }
+            return;
+        }
+        line = end ? end + 1 : NULL;
+    }
+    CHECK_FAIL_("--describe: no line for %s:\n%s", name, out);
+}
+
+static void case_describe(void)
+{
+    const char *args[] = {"spring-pendulum", "--describe", NULL};
+    const char *set_args[] = {"spring-pendulum", "--describe", "--set",
+                              "k=100", "--set", "theta_dot=0.3", NULL};
+    const char *m[] = {"1", "kg", NULL}, *k[] = {"75", "N/m", NULL};
+    const char *r0[] = {"1", "m", NULL}, *g[] = {"9.81", "m/s^2", NULL};
+    const char *rr[] = {"1.1", "0", "m", "m/s", NULL};
+    const char *th[] = {"0.5", "0", "rad", "rad/s", NULL};
+    const char *k100[] = {"75", "(set:", "100)", NULL};
+    result r;
+    run(&r, args);
+    CHECK_INT(r.status, 0);
+    CHECK(r.err[0] == '\0');
+    check_describe_line(r.out, "m", m);
+    check_describe_line(r.out, "k", k);
+    check_describe_line(r.out, "r0", r0);
+    check_describe_line(r.out, "g", g);
+    check_describe_line(r.out, "r", rr);
+    check_describe_line(r.out, "theta", th);
+    CHECK_HAS(r.out, "structural settings: none");
+    CHECK_HAS(r.out, header);
+    result_free(&r);
+
+    /* --set values in use appear beside the defaults */
+    run(&r, set_args);
+    CHECK_INT(r.status, 0);
+    check_describe_line(r.out, "k", k100);
+    result_free(&r);
+}
+
+/* --help names every option, and docs/cli.md documents each of them. */
+static void case_help(void)
+{
+    static const char *const options[] = {
+        "--help", "--list", "--describe", "--set", "--t-end", "--sample",
+        "--integrator", "--dt", "--rtol", "--atol", "--max-steps",
+        "--no-project", "--baumgarte", "--out", "--quiet", NULL};
+    const char *args[] = {"--help", NULL};
+    char *doc = docs_cli ? read_file(docs_cli, NULL) : NULL;
+    const char *p;
+    result r;
+    int k;
+    run(&r, args);
+    CHECK_INT(r.status, 0);
+    CHECK_HAS(r.out, "usage:");
+    for (k = 0; options[k]; k++)
+        CHECK_HAS(r.out, options[k]);
+    CHECK(doc != NULL);
+    /* every long option the help shows is in the document */
+    for (p = r.out; doc && (p = strstr(p, "--")) != NULL; ) {
+        char opt[64];
+        size_t n = 2;
+        while (n < sizeof opt - 1 &&
+               ((p[n] >= 'a' && p[n] <= 'z') || p[n] == '-'))
+            n++;
+        memcpy(opt, p, n);
+        opt[n] = '\0';
+        if (n > 2)
+            CHECK_HAS(doc, opt);
+        p += n;
+    }
+    free(doc);
+    result_free(&r);
+}
+
+static void case_csv(void)
+{
+    char path[300];
+    const char *args[] = {"spring-pendulum", "--t-end", "0.5", "--out",
+                          path, NULL};
+    const char *args_stdout[] = {"spring-pendulum", "--t-end", "0.5", "-q",
+                                 NULL};
+    char *file;
+    result r, r2;
+    csv c;
+    scratch(path, sizeof path, "out.csv");
+
+    CHECK_INT(run_csv(&c, args, &r), 0);
+    CHECK_INT(c.nrows, 51);
+    check_sp_csv(&c, &sp_default, 0.01, 0.5, 0, 1e-9);
+    if (c.nrows > 0 && c.ncols == NCOLS) {
+        /* the documented default start */
+        CHECK(at(&c, 0, C_R) == 1.1);
+        CHECK(at(&c, 0, C_TH) == 0.5);
+        CHECK(at(&c, 0, C_RD) == 0.0);
+        CHECK(at(&c, 0, C_THD) == 0.0);
+    }
+    /* the summary */
+    CHECK_HAS(r.err, "steps 500");
+    CHECK_HAS(r.err, "right-hand sides");
+    CHECK_HAS(r.err, "wall time");
+    CHECK_HAS(r.err, "energy drift");
+    CHECK_HAS(r.err, "constraint residual");
+    CHECK(r.out[0] == '\0');
+    free(c.v);
+    result_free(&r);
+
+    /* without --out the same bytes go to stdout; --quiet: nothing else */
+    run(&r, args);
+    file = read_file(path, NULL);
+    run(&r2, args_stdout);
+    CHECK_INT(r2.status, 0);
+    CHECK(file && strcmp(file, r2.out) == 0);
+    CHECK(r2.err[0] == '\0');
+    free(file);
+    unlink(path);
+    result_free(&r);
+    result_free(&r2);
+}
+
+/* Sample grids: off-grid t_end, t_end = 0, and a t_end that is a multiple
+ * only up to rounding (0.3 / 0.1). */
+static void case_grid(void)
+{
+    char path[300];
+    const char *off[] = {"spring-pendulum", "--t-end", "0.025", "-q",
+                         "--out", path, NULL};
+    const char *zero[] = {"spring-pendulum", "--t-end", "0", "-q", "--out",
+                          path, NULL};
+    const char *round[] = {"spring-pendulum", "--t-end", "0.3", "--sample",
+                           "0.1", "--dt", "1e-4", "-q", "--out", path,
+                           NULL};
+    result r;
+    csv c;
+    scratch(path, sizeof path, "out.csv");
+
+    CHECK_INT(run_csv(&c, off, &r), 0);
+    CHECK_INT(c.nrows, 4);
+    check_sp_csv(&c, &sp_default, 0.01, 0.025, 1, 1e-9);
+    free(c.v);
+    result_free(&r);
+
+    CHECK_INT(run_csv(&c, zero, &r), 0);
+    CHECK_INT(c.nrows, 1);
+    check_sp_csv(&c, &sp_default, 0.01, 0.0, 0, 1e-9);
+    free(c.v);
+    result_free(&r);
+
+    CHECK_INT(run_csv(&c, round, &r), 0);
+    CHECK_INT(c.nrows, 4);
+    if (c.nrows == 4 && c.ncols == NCOLS)
+        CHECK(at(&c, 3, C_T) == 3 * 0.1);
+    free(c.v);
+    result_free(&r);
+}
+
+/* --set changes the initial state and the parameters; the last value of
+ * a name wins. */
+static void case_set(void)
+{
+    char path[300];
+    const char *args[] = {"spring-pendulum", "--set", "k=50", "--set",
+                          "k=100", "--set", "r=1.2", "-s", "theta_dot=0.3",
+                          "--set", "m=2", "--t-end", "0.2", "-q", "--out",
+                          path, NULL};
+    const sp p = {2.0, 100.0, 1.0, 9.81};
+    result r;
+    csv c;
+    scratch(path, sizeof path, "out.csv");
+    CHECK_INT(run_csv(&c, args, &r), 0);
+    CHECK_INT(c.nrows, 21);
+    check_sp_csv(&c, &p, 0.01, 0.2, 0, 1e-9);
+    if (c.nrows > 0 && c.ncols == NCOLS) {
+        const double *row = c.v;
+        CHECK(row[C_R] == 1.2);
+        CHECK(row[C_TH] == 0.5);
+        CHECK(row[C_RD] == 0.0);
+        CHECK(row[C_THD] == 0.3);
+        /* the spring with k = 100, m = 2: not the defaults */
+        CHECK_NEAR(row[C_PE], 0.5 * 100.0 * 0.2 * 0.2 +
+                                  2.0 * 9.81 * (1.0 - 1.2 * cos(0.5)), 1e-14);
+        CHECK_NEAR(row[C_KE], 0.5 * 2.0 * 1.44 * 0.09, 1e-14);
+    }
+    free(c.v);
+    result_free(&r);
+}
+
+typedef struct bad_case {
+    const char *args[8];
+    int status;          /* expected exit status */
+    const char *word;    /* expected in stderr */
+} bad_case;
+
+/* Each bad command line: the documented status, a message naming the
+ * problem, nothing on stdout. */
+static void case_usage(void)
+{
+    static const bad_case cases[] = {
+        {{NULL}, 2, "no demo"},
+        {{"no-such-demo"}, 2, "unknown demo 'no-such-demo'"},
+        {{"--describe"}, 2, "no demo"},
+        {{"spring-pendulum", "--bogus"}, 2, "unknown or ambiguous option "
+                                            "'--bogus'"},
+        {{"spring-pendulum", "-x"}, 2, "unknown option '-x'"},
+        {{"spring-pendulum", "--quiet=1"}, 2, "does not take an argument"},
+        {{"spring-pendulum", "--t-end"}, 2, "'--t-end' needs an argument"},
+        {{"spring-pendulum", "--set"}, 2, "'--set' needs an argument"},
+        {{"spring-pendulum", "--set", "k"}, 2, "NAME=VALUE"},
+        {{"spring-pendulum", "--set", "=5"}, 2, "empty name"},
+        {{"spring-pendulum", "--set", "k="}, 2, "is empty"},
+        {{"spring-pendulum", "--set", "k=abc"}, 2, "not a number"},
+        {{"spring-pendulum", "--set", "k= 5"}, 2, "not a number"},
+        {{"spring-pendulum", "--set", "k=inf"}, 2, "not finite"},
+        {{"spring-pendulum", "--set", "k=nan"}, 2, "not finite"},
+        {{"spring-pendulum", "--set", "k=1e999"}, 2, "out of range"},
+        {{"spring-pendulum", "--set", "k=5x"}, 2, "trailing"},
+        {{"spring-pendulum", "--set", "kk=5"}, 2, "named 'kk'"},
+        {{"spring-pendulum", "--set", "kk=5"}, 2, "--describe"},
+        {{"spring-pendulum", "--set", "r_dott=5"}, 2, "named 'r_dott'"},
+        {{"spring-pendulum", "--set", "_dot=5"}, 2, "named '_dot'"},
+        {{"spring-pendulum", "--sample", "0"}, 2, "--sample '0'"},
+        {{"spring-pendulum", "--sample", "-0.1"}, 2, "must be > 0"},
+        {{"spring-pendulum", "--dt", "0"}, 2, "--dt '0'"},
+        {{"spring-pendulum", "--dt", "-1e-3"}, 2, "must be > 0"},
+        {{"spring-pendulum", "--t-end", "-1"}, 2, "must be >= 0"},
+        {{"spring-pendulum", "--t-end", "nan"}, 2, "not finite"},
+        {{"spring-pendulum", "--rtol", "0"}, 2, "--rtol"},
+        {{"spring-pendulum", "--atol", "-1"}, 2, "--atol"},
+        {{"spring-pendulum", "--max-steps", "0"}, 2, "must be >= 1"},
+        {{"spring-pendulum", "--max-steps", "2.5"}, 2, "not an integer"},
+        {{"spring-pendulum", "--baumgarte", "1"}, 2, "ALPHA,BETA"},
+        {{"spring-pendulum", "--baumgarte", "1,-2"}, 2, "must be >= 0"},
+        {{"spring-pendulum", "--integrator", "euler"}, 2,
+         "unknown integrator"},
+        {{"spring-pendulum", "--t-end", "1e9", "--sample", "1e-9"}, 2,
+         "rows"},
+        {{"spring-pendulum", "extra"}, 2, "unexpected argument 'extra'"},
+        {{"spring-pendulum", "--out", "/nonexistent-dir/x/out.csv"}, 1,
+         "cannot open"},
+        {{"spring-pendulum", "--out", ""}, 2, "empty file name"},
+    };
+    char path[300];
+    const char *keep[] = {"spring-pendulum", "--set", "kk=1", "--out", path,
+                          NULL};
+    size_t i;
+    char *text;
+    FILE *f;
+    result r;
+    for (i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        run(&r, cases[i].args);
+        check_count_++;
+        if (r.status != cases[i].status || !has(r.err, cases[i].word) ||
+            r.out[0] != '\0')
+            CHECK_FAIL_("eom-run %s %s %s %s: status %d (want %d), stderr "
+                        "'%s' (want '%s'), stdout '%.80s'",
+                        cases[i].args[0] ? cases[i].args[0] : "",
+                        cases[i].args[0] && cases[i].args[1]
+                            ? cases[i].args[1] : "",
+                        cases[i].args[0] && cases[i].args[1] &&
+                                cases[i].args[2] ? cases[i].args[2] : "",
+                        cases[i].args[0] && cases[i].args[1] &&
+                                cases[i].args[2] && cases[i].args[3]
+                            ? cases[i].args[3] : "",
+                        r.status, cases[i].status, r.err, cases[i].word,
+                        r.out);
+        result_free(&r);
+    }
+
+    /* a bad command line leaves an existing output file alone */
+    scratch(path, sizeof path, "keep.csv");
+    f = fopen(path, "w");
+    CHECK(f != NULL);
+    if (f) {
+        fputs("keep\n", f);
+        fclose(f);
+    }
+    run(&r, keep);
+    CHECK_INT(r.status, 2);
+    text = read_file(path, NULL);
+    CHECK(text && strcmp(text, "keep\n") == 0);
+    free(text);
+    unlink(path);
+    result_free(&r);
+}
+
+/* Integrator failures: status 1, libeom's message, and the rows written
+ * before the failure kept in the file. */
+static void case_failure(void)
+{
+    char path[300];
+    const char *steps[] = {"spring-pendulum", "--max-steps", "1", "--out",
+                           path, NULL};
+    /* RK4 far beyond its stability limit (h w = 17): the state grows by
+     * orders of magnitude each step until it overflows */
+    const char *diverge[] = {"spring-pendulum", "--dt", "2", "--sample", "2",
+                             "--t-end", "1000", "-q", "--out", path, NULL};
+    result r;
+    csv c;
+    int i, j;
+    scratch(path, sizeof path, "out.csv");
+
+    CHECK_INT(run_csv(&c, steps, &r), 1);
+    CHECK_HAS(r.err, "integration failed");
+    CHECK_HAS(r.err, "rk4");
+    CHECK_HAS(r.err, "max_steps");
+    CHECK_HAS(r.err, "energy drift"); /* the summary still comes */
+    CHECK(strcmp(c.header, header) == 0);
+    CHECK_INT(c.nrows, 1);
+    free(c.v);
+    result_free(&r);
+
+    CHECK_INT(run_csv(&c, diverge, &r), 1);
+    CHECK_HAS(r.err, "spring-pendulum");
+    CHECK_HAS(r.err, "not finite");
+    CHECK(strcmp(c.header, header) == 0);
+    CHECK(c.nrows >= 2 && c.nrows < 500);
+    for (i = 0; i < c.nrows; i++)
+        CHECK(at(&c, i, C_T) == 2.0 * i);
+    /* the rows before the blow-up are complete */
+    for (i = 0; i + 1 < c.nrows; i++)
+        for (j = 0; j < c.ncols; j++)
+            CHECK(isfinite(at(&c, i, j)));
+    free(c.v);
+    result_free(&r);
+
+    /* a full disk is a run failure with a message, not a short file */
+    if (access("/dev/full", W_OK) == 0) {
+        const char *full[] = {"spring-pendulum", "-q", "--out", "/dev/full",
+                              NULL};
+        run(&r, full);
+        CHECK_INT(r.status, 1);
+        CHECK_HAS(r.err, "cannot write");
+        result_free(&r);
+    }
+}
+
+/* Every method through the same options gives a correct CSV. */
+static void case_methods(void)
+{
+    static const char *const methods[] = {"rk4", "erk", "adams", "bdf",
+                                          "ida"};
+    char path[300];
+    const char *args[] = {"spring-pendulum", "--integrator", NULL,
+                          "--t-end", "0.2", "-q", "--out", path, NULL};
+    size_t i;
+    result r;
+    csv c;
+    scratch(path, sizeof path, "out.csv");
+    for (i = 0; i < sizeof methods / sizeof methods[0]; i++) {
+        args[2] = methods[i];
+        run_csv(&c, args, &r);
+        check_count_++;
+        if (r.status != 0)
+            CHECK_FAIL_("method %s: status %d: %s", methods[i], r.status,
+                        r.err);
+        CHECK_INT(c.nrows, 21);
+        check_sp_csv(&c, &sp_default, 0.01, 0.2, 0, 1e-6);
+        free(c.v);
+        result_free(&r);
+    }
+}
+
+static const struct {
+    const char *name;
+    void (*fn)(void);
+} cases[] = {
+    {"list", case_list},       {"describe", case_describe},
+    {"help", case_help},       {"csv", case_csv},
+    {"grid", case_grid},       {"set", case_set},
+    {"usage", case_usage},     {"failure", case_failure},
+    {"methods", case_methods},
+};
+
+int main(int argc, char **argv)
+{
+    const char *base = getenv("TMPDIR");
+    size_t i;
+    int found = 0;
+    if (argc < 3) {
+        fprintf(stderr, "usage: test_cli EOM_RUN CASE [DOCS_CLI_MD]\n");
+        return EXIT_FAILURE;
+    }
+    eom_run = argv[1];
+    docs_cli = argc > 3 ? argv[3] : NULL;
+    snprintf(tmpdir, sizeof tmpdir, "%s/eom-cli-XXXXXX",
+             base && *base ? base : "/tmp");
+    if (!mkdtemp(tmpdir)) {
+        fprintf(stderr, "mkdtemp %s: %s\n", tmpdir, strerror(errno));
+        return EXIT_FAILURE;
+    }
+    for (i = 0; i < sizeof cases / sizeof cases[0]; i++)
+        if (strcmp(cases[i].name, argv[2]) == 0) {
+            cases[i].fn();
+            found = 1;
+        }
+    rmdir(tmpdir);
+    if (!found) {
+        fprintf(stderr, "test_cli: unknown case '%s'\n", argv[2]);
+        return EXIT_FAILURE;
+    }
+    CHECK_DONE();
+}
