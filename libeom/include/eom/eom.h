@@ -251,9 +251,15 @@ EOM_API int eom_project(eom_system *s, double *x, double tol, int *iters);
 /* Linearization about an equilibrium q (qd = 0): M, the stiffness
  * K = -d2L/dq2 - sum_k lambda_k d2phi_k/dq2 and the damping D =
  * d2R/dqd2 (each n x n), reduced to the null space of C (nr = n - rank
- * C coordinates), and the natural frequencies omega (rad/s, ascending) of
- * K v = omega^2 M v on that null space. The multipliers are those that
- * hold the system at rest at q. */
+ * C coordinates; a rank-deficient C is allowed), and the natural
+ * frequencies omega (rad/s, ascending) of K v = omega^2 M v on that null
+ * space. The multipliers are those that hold the system at rest at q; if
+ * q is not at rest (off the constraints, or an unbalanced force beyond a
+ * relative 1e-6) the call fails with EOM_ERR_ARG: find the rest state
+ * with eom_equilibrium first. Generalized forces Q are not included.
+ * eom_linearize overwrites *lin without freeing it (free an earlier
+ * result with eom_linear_free first) and leaves it zeroed on failure.
+ * docs/linearization.md has the details. */
 typedef struct eom_linear {
     int n, nr;       /* coordinates, and independent ones */
     double *M, *K, *D; /* n x n */
@@ -266,9 +272,12 @@ typedef struct eom_linear {
 EOM_API int eom_linearize(eom_system *s, const double *q, eom_linear *lin);
 EOM_API void eom_linear_free(eom_linear *lin);
 
-/* Static equilibrium: from q (n, updated in place), Newton iteration on
- * dV/dq - C^T lambda = 0, phi = 0 with the tape's second derivatives, to
- * max |residual| <= tol. */
+/* Static equilibrium: from q (n, updated in place), Newton iteration
+ * (with a line search) on dL/dq(q, 0) + C^T lambda = 0, phi(q) = 0 with the
+ * tape's second derivatives, to max |residual| <= tol. Generalized forces
+ * Q are not included. On failure (EOM_ERR_NOT_CONVERGED after 50 steps,
+ * or another error) q is restored to the guess. *iters (may be NULL)
+ * receives the number of Newton steps. */
 EOM_API int eom_equilibrium(eom_system *s, double *q, double tol,
                             int *iters);
 
@@ -276,10 +285,10 @@ EOM_API int eom_equilibrium(eom_system *s, double *q, double tol,
 
 typedef enum eom_method {
     EOM_RK4,   /* fixed-step classical Runge-Kutta (the paper's) */
-    EOM_ERK,   /* ARKODE ERKStep, adaptive explicit, 8th order (Verner) */
+    EOM_ERK,   /* ARKODE ERKStep, adaptive explicit, Verner 6(5), 8 stages */
     EOM_ADAMS, /* CVODE Adams-Moulton, fixed-point iteration */
     EOM_BDF,   /* CVODE BDF, Newton iteration with a dense Jacobian */
-    EOM_IDA    /* IDA on the index-1 form (see docs/theory.md) */
+    EOM_IDA    /* IDA on the index-1 form (see docs/integrators.md) */
 } eom_method;
 
 /* Name as used on the command line ("rk4", "erk", "adams", "bdf", "ida")
@@ -292,8 +301,10 @@ typedef struct eom_opts {
     double dt;        /* RK4: the step; others: the first step (0: auto) */
     double rtol, atol; /* adaptive methods */
     long max_steps;   /* per call of eom_integ_advance (default 1e7) */
-    int project;      /* project onto the constraints after each step
-                         (default 1; ignored without constraints) */
+    int project;      /* project onto the constraints (default 1; ignored
+                         without constraints): after each step with rk4,
+                         erk and bdf, at each requested time with adams
+                         and ida (docs/integrators.md) */
     double proj_tol;  /* projection tolerance on |phi| (default 1e-12) */
 } eom_opts;
 

@@ -304,7 +304,8 @@ int eom_chain_add(eom_model *m, const eom_chain_spec *sp)
         return EOM_ERR_NOMEM;
     ch->N = N;
     ch->closed = sp->closed != 0;
-    snprintf(ch->prefix, sizeof ch->prefix, "%s", sp->prefix ? sp->prefix : "");
+    snprintf(ch->prefix, sizeof ch->prefix, "%s",
+             sp->prefix ? sp->prefix : "");
     ch->K = calloc((size_t)N, sizeof(int));
     ch->th = calloc((size_t)N, sizeof(int));
     ch->q = calloc((size_t)N, sizeof(int));
