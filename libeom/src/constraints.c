@@ -1,11 +1,15 @@
 /* constraints.c - projection of a state onto the constraint manifold:
  * q onto phi(q) = 0 and qd onto C qd = 0, each by the correction of least
- * M-norm,
- *     dq  = -M^-1 C^T S^-1 phi(q)   (Newton, repeated until |phi| <= tol)
- *     dqd = -M^-1 C^T S^-1 C qd     (once, at the corrected q)
- * with S = C M^-1 C^T. M is factored once, at the state given (the metric
- * of the correction need not be exact for the iteration to converge);
- * C and S are recomputed at each iterate. */
+ * W-norm,
+ *     dq  = -W^-1 C^T S^-1 phi(q)   (Newton, repeated until |phi| <= tol)
+ *     dqd = -W^-1 C^T S^-1 C qd     (once, at the corrected q)
+ * with S = C W^-1 C^T. eom_project uses the mass matrix, W = M (the
+ * correction of least kinetic energy, right for removing the small drift
+ * of a step); eom_project_start uses W = I (the least change of the
+ * coordinates, right for an initial state a user set off the
+ * constraints: M couples angles and deflections, so the M-norm would move
+ * deflections the constraints do not involve). W is factored once, at
+ * the state given; C and S are recomputed at each iterate. */
 #include <math.h>
 #include <string.h>
 
@@ -35,7 +39,9 @@ static int correct(eom_system *s, double *v, double *r)
     return EOM_OK;
 }
 
-int eom_project(eom_system *s, double *x, double tol, int *iters)
+/* The projection with W = M (by_mass) or W = I, factored into s->Mf. */
+static int project(eom_system *s, double *x, double tol, int *iters,
+                   bool by_mass, const char *fn)
 {
     const int n = s ? s->n : 0, m = s ? s->m : 0;
     int it = 0, rc, st, i, j;
@@ -46,18 +52,25 @@ int eom_project(eom_system *s, double *x, double tol, int *iters)
         return EOM_ERR_NULL;
     s->msg[0] = '\0';
     if (!x)
-        return eom__fail(s, EOM_ERR_NULL, "eom_project: x is NULL");
+        return eom__fail(s, EOM_ERR_NULL, "%s: x is NULL", fn);
     if (!(tol > 0.0))
-        return eom__fail(s, EOM_ERR_ARG, "eom_project: tolerance %g", tol);
+        return eom__fail(s, EOM_ERR_ARG, "%s: tolerance %g", fn, tol);
     if (m == 0)
         return EOM_OK;
     if (!eom__finite(x, 2 * (size_t)n))
         return eom__fail(s, EOM_ERR_NONFINITE, "the state is not finite");
-    st = tp_lagrange(s->tL.ws, x, 0, NULL, NULL, s->M, NULL);
-    if ((rc = eom__tape_status(s, st, "the mass matrix")))
-        return rc;
-    if ((rc = eom__factor_mass(s)) != EOM_OK)
-        return rc;
+    if (by_mass) {
+        st = tp_lagrange(s->tL.ws, x, 0, NULL, NULL, s->M, NULL);
+        if ((rc = eom__tape_status(s, st, "the mass matrix")))
+            return rc;
+        if ((rc = eom__factor_mass(s)) != EOM_OK)
+            return rc;
+    } else {
+        /* the Cholesky factor of I is I */
+        memset(s->Mf, 0, (size_t)n * (size_t)n * sizeof(double));
+        for (i = 0; i < n; i++)
+            s->Mf[(size_t)i * (size_t)n + (size_t)i] = 1.0;
+    }
     for (;;) {
         if ((rc = eom__constraints_at(s, x)) != EOM_OK)
             return rc;
@@ -65,10 +78,16 @@ int eom_project(eom_system *s, double *x, double tol, int *iters)
         if (res <= tol)
             break;
         if (it == EOM_PROJ_MAXIT)
+            /* slow convergence is the mark of a near-singular C: say how
+             * near (the estimate of the last factorization) */
             return eom__fail(s, EOM_ERR_PROJECTION,
                              "projection onto the constraints: |phi| = %.3g "
-                             "after %d iterations (tolerance %.3g)", res, it,
-                             tol);
+                             "after %d iterations (tolerance %.3g); "
+                             "C W^-1 C^T has reciprocal condition %.3g here%s",
+                             res, it, tol, s->rcond_S,
+                             s->rcond_S < 1e-6
+                                 ? ": a (nearly) singular configuration"
+                                 : "");
         if ((rc = eom__factor_S(s)) != EOM_OK)
             return rc;
         memcpy(s->wm, s->phi, (size_t)m * sizeof(double));
@@ -93,4 +112,14 @@ int eom_project(eom_system *s, double *x, double tol, int *iters)
                ? EOM_OK
                : eom__fail(s, EOM_ERR_NONFINITE,
                            "the projected state is not finite");
+}
+
+int eom_project(eom_system *s, double *x, double tol, int *iters)
+{
+    return project(s, x, tol, iters, true, "eom_project");
+}
+
+int eom_project_start(eom_system *s, double *x, double tol, int *iters)
+{
+    return project(s, x, tol, iters, false, "eom_project_start");
 }

@@ -245,6 +245,12 @@ EOM_API int eom_probes_at(eom_system *s, const double *x, double *p);
  * linear correction of qd). *iters (may be NULL) receives the number of
  * iterations. EOM_ERR_PROJECTION if it does not converge in 20. */
 EOM_API int eom_project(eom_system *s, double *x, double tol, int *iters);
+/* The same with the correction of least Euclidean norm in q and in qd:
+ * the smallest change of the coordinates, for an initial state set off
+ * the constraints (the M-norm correction moves every coordinate coupled
+ * through M, such as the deflections of a flexible link). */
+EOM_API int eom_project_start(eom_system *s, double *x, double tol,
+                              int *iters);
 
 /* ---- linearization ---------------------------------------------------- */
 
