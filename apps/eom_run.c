@@ -1,11 +1,15 @@
 /* eom_run.c - eom-run, the scene runner: pick a demo, override its
  * settings, parameters and initial state by name, integrate it with any
  * of libeom's methods and write the trajectory as CSV (docs/cli.md,
- * docs/csv.md). This file reads the command line and puts the pieces
- * together; the demos live in demos/, the run itself in run_loop.c.
+ * docs/csv.md), optionally with plots beside it (--plots), or print its
+ * equilibrium and natural frequencies instead (--modes). This file reads
+ * the command line and puts the pieces together; the demos live in
+ * demos/, the run itself in run_loop.c, the start of a constrained run in
+ * start_state.c, --modes in modes_report.c.
  *
- * Exit status: 0 success, 1 the run failed (model, integrator, output
- * file), 2 the command line is wrong (nothing was run or written). */
+ * Exit status: 0 success, 1 the run failed (model, initial projection,
+ * integrator, output file, plots; with --modes: no equilibrium), 2 the
+ * command line is wrong (nothing was run or written). */
 #define _GNU_SOURCE /* getopt_long */
 #include <getopt.h>
 #include <stdarg.h>
@@ -18,9 +22,11 @@
 #include "demos/demos.h"
 #include "describe.h"
 #include "eom/eom.h"
+#include "modes_report.h"
 #include "numtext.h"
 #include "overrides.h"
 #include "run_loop.h"
+#include "start_state.h"
 
 enum { EXIT_RUN = 1, EXIT_USAGE = 2 };
 
@@ -38,6 +44,8 @@ typedef struct cli {
     double alpha, beta;
     const char *out;       /* --out, or NULL for standard output */
     int quiet, list, describe, help;
+    int plots;             /* --plots: the demo's after_run hook */
+    int modes;             /* --modes: equilibrium and frequencies */
 } cli;
 
 /* Long-only options get codes outside the range of characters. */
@@ -51,7 +59,9 @@ enum {
     OPT_ATOL,
     OPT_MAX_STEPS,
     OPT_NO_PROJECT,
-    OPT_BAUMGARTE
+    OPT_BAUMGARTE,
+    OPT_PLOTS,
+    OPT_MODES
 };
 
 static const struct option long_options[] = {
@@ -69,6 +79,8 @@ static const struct option long_options[] = {
     {"no-project", no_argument, NULL, OPT_NO_PROJECT},
     {"baumgarte", required_argument, NULL, OPT_BAUMGARTE},
     {"out", required_argument, NULL, 'o'},
+    {"plots", no_argument, NULL, OPT_PLOTS},
+    {"modes", no_argument, NULL, OPT_MODES},
     {"quiet", no_argument, NULL, 'q'},
     {NULL, 0, NULL, 0},
 };
@@ -77,6 +89,7 @@ static void usage_line(FILE *f)
 {
     fprintf(f, "usage: eom-run --list\n"
                "       eom-run DEMO --describe [--set NAME=VALUE]...\n"
+               "       eom-run DEMO --modes [--set NAME=VALUE]...\n"
                "       eom-run DEMO [OPTION]...\n");
 }
 
@@ -110,15 +123,25 @@ static void help(void)
         "      --max-steps N     at most N steps between two rows, >= 1 "
         "(default 10000000)\n"
         "      --no-project      do not project the state onto the "
-        "constraints after\n"
-        "                        each step\n"
+        "constraints, neither\n"
+        "                        the initial state nor after each step\n"
         "      --baumgarte A,B   Baumgarte stabilization of the constraints, "
         "A, B >= 0\n"
         "                        in 1/s (default 0,0: off)\n"
         "  -o, --out FILE        write the CSV to FILE (default: standard "
         "output)\n"
-        "  -q, --quiet           no summary and no progress line on standard "
-        "error\n"
+        "      --plots           after the run, write the demo's plots "
+        "beside the CSV\n"
+        "                        (PNG, SVG, gnuplot scripts, an HTML "
+        "animation); needs\n"
+        "                        --out and gnuplot\n"
+        "      --modes           do not integrate: find the static "
+        "equilibrium from the\n"
+        "                        initial state and print it with the "
+        "natural frequencies\n"
+        "  -q, --quiet           no summary, no progress line and no note "
+        "about the plots\n"
+        "                        on standard error\n"
         "\nA summary (steps, right-hand sides, wall time, energy drift, "
         "constraint\n"
         "residual) ends every run on standard error; a progress line is drawn "
@@ -129,7 +152,7 @@ static void help(void)
         "2 the command line is wrong.\n"
         "\nExample: eom-run spring-pendulum --set k=100 --set theta_dot=0.3 "
         "--t-end 5 --out sp.csv\n"
-        "See docs/cli.md and docs/csv.md.\n");
+        "See docs/cli.md, docs/csv.md and docs/demos.md.\n");
 }
 
 static int usage_error(const char *fmt, ...)
@@ -258,6 +281,8 @@ static int parse(int argc, char **argv, cli *c)
             rc = max_steps_arg(optarg, &c->opts.max_steps);
             break;
         case OPT_NO_PROJECT: c->opts.project = 0; break;
+        case OPT_PLOTS: c->plots = 1; break;
+        case OPT_MODES: c->modes = 1; break;
         case OPT_BAUMGARTE:
             rc = baumgarte_arg(optarg, &c->alpha, &c->beta);
             c->baumgarte = 1;
@@ -294,12 +319,22 @@ static int run(cli *c)
     csv_writer *w = NULL;
     double *settings = NULL, *x0 = NULL;
     char err[4096];
-    int status = EXIT_RUN, n;
+    int status = EXIT_RUN, n, rc;
     run_plan plan;
 
     if (!d)
         return usage_error("unknown demo '%s' (eom-run --list shows the "
                            "demos)", c->demo_name);
+    if (c->modes && c->describe)
+        return usage_error("--modes and --describe: give one of them");
+    if (c->modes && (c->plots || c->out))
+        return usage_error("--modes prints to standard output and runs "
+                           "nothing: --out and --plots belong to a run");
+    if (c->plots && !c->out)
+        return usage_error("--plots needs --out FILE.csv: the plots are "
+                           "written beside the CSV");
+    if (c->plots && !d->after_run)
+        return usage_error("--plots: the demo %s has no plots", d->name);
     if (c->t_end / c->sample > MAX_ROWS)
         return usage_error("--t-end / --sample = %g: more than %g rows",
                            c->t_end / c->sample, MAX_ROWS);
@@ -356,6 +391,23 @@ static int run(cli *c)
         status = EXIT_SUCCESS;
         goto done;
     }
+    if (c->modes) {
+        /* the demo's rest guess, unless the user placed the coordinates */
+        int placed = 0, k;
+        for (k = 0; k < c->nsets; k++) {
+            char name[128];
+            snprintf(name, sizeof name, "%.*s", (int)c->sets[k].namelen,
+                     c->sets[k].arg);
+            placed |= eom_coord_index(s, name) >= 0;
+        }
+        if (!placed && d->rest_guess)
+            d->rest_guess(settings, s, x0);
+        status = modes_report(stdout, s, x0, d->name) == 0 ? EXIT_SUCCESS
+                                                           : EXIT_RUN;
+        goto done;
+    }
+    if (start_state_prepare(s, x0, &c->opts, d->name) != 0)
+        goto done;
 
     /* every check is done: only now create or truncate the output */
     if (csv_writer_open(&w, c->out, err, sizeof err) != 0) {
@@ -375,10 +427,25 @@ static int run(cli *c)
         fprintf(stderr, "eom-run: %s\n", err);
         status = EXIT_RUN;
     }
-    if (status == EXIT_SUCCESS && c->out && d->after_run &&
-        d->after_run(settings, s, c->out, err, sizeof err) != 0) {
-        fprintf(stderr, "eom-run: %s: %s\n", d->name, err);
-        status = EXIT_RUN;
+    if (status == EXIT_SUCCESS && c->plots) {
+        /* gnuplot takes a while on long runs: say what is going on, on a
+         * terminal, and erase it after (like the progress line) */
+        const int tty = plan.progress && !c->quiet;
+        if (tty) {
+            fprintf(stderr, "eom-run: %s: making the plots ...", d->name);
+            fflush(stderr);
+        }
+        /* the CSV is closed: the plots read it back from the file */
+        rc = d->after_run(settings, s, c->out, err, sizeof err);
+        if (tty)
+            fprintf(stderr, "\r%60s\r", "");
+        if (rc != 0) {
+            fprintf(stderr, "eom-run: %s: %s\n", d->name, err);
+            status = EXIT_RUN;
+        } else if (!c->quiet) {
+            fprintf(stderr, "eom-run: %s: plots written beside '%s'\n",
+                    d->name, c->out);
+        }
     }
 done:
     csv_writer_close(&w, err, sizeof err);

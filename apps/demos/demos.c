@@ -6,6 +6,8 @@
 
 static const demo *const all_demos[] = {
     &demo_spring_pendulum,
+    &demo_open_chain,
+    &demo_closed_chain,
 };
 
 const demo *const *demos_all(int *count)

@@ -42,17 +42,26 @@ typedef struct demo {
      * model must own whatever its callbacks read (eom_model_attach). */
     int (*build)(const double *settings, eom_model **out, char *err,
                  size_t errlen);
-    /* Optional (NULL: none). Called after a run that finished and wrote
-     * its CSV to the file csv_path (not when the CSV went to standard
-     * output), for extra output beside it such as plots. settings as for
-     * build; s is the system that ran. Returns 0, or non-zero with a
-     * message in err (eom-run then exits with status 1). */
+    /* Optional (NULL: none). Called with --plots after a run that
+     * finished and wrote its CSV to the file csv_path, for extra output
+     * beside it such as plots. settings as for build; s is the system
+     * that ran. Returns 0, or non-zero with a message in err (eom-run then
+     * exits with status 1). */
     int (*after_run)(const double *settings, const eom_system *s,
                      const char *csv_path, char *err, size_t errlen);
+    /* Optional (NULL: start from the initial state). Where --modes starts
+     * its search for the static equilibrium when no coordinate was set on
+     * the command line: writes n coordinates to q (a guess near the
+     * demo's stable rest state) and returns 0, or non-zero to use the
+     * initial state. */
+    int (*rest_guess)(const double *settings, const eom_system *s,
+                      double *q);
 } demo;
 
 /* The demos, in the order --list shows them. */
 extern const demo demo_spring_pendulum;
+extern const demo demo_open_chain;
+extern const demo demo_closed_chain;
 
 /* All demos: *count receives their number. */
 const demo *const *demos_all(int *count);

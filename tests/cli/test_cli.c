@@ -1,192 +1,24 @@
 /* test_cli.c - eom-run seen from outside: each case runs the built
- * program in a child process with its output captured, and checks the
- * exit status, words of its messages and the CSV it writes (parsed back
- * and compared with the spring pendulum's formulas, computed here).
+ * program in a child process with its output captured (cli_support.h),
+ * and checks the exit status, words of its messages and the CSV it
+ * writes (parsed back and compared with the spring pendulum's formulas,
+ * computed here). The chain demos have their own cases in
+ * test_cli_chains.c.
  *
  * usage: test_cli EOM_RUN CASE [DOCS_CLI_MD]
- * The environment variable EOM_CLI_WRAPPER, if set, is a command (words
- * split at spaces) that eom-run runs under, for example
- * "valgrind -q --error-exitcode=99 --leak-check=full". No check depends
- * on timing. */
+ * EOM_CLI_WRAPPER runs eom-run under a wrapper such as valgrind
+ * (cli_support.h). No check depends on timing. */
 #define _POSIX_C_SOURCE 200809L
-#include <errno.h>
-#include <fcntl.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include "check.h"
+#include "cli_support.h"
 
-static const char *eom_run;  /* path of the program under test */
 static const char *docs_cli; /* docs/cli.md, for the "help" case */
-static char tmpdir[256];     /* scratch directory of this process */
-
-/* ---- running eom-run ---------------------------------------------------- */
-
-typedef struct result {
-    int status;     /* exit status; 128 + signal when killed */
-    char *out, *err; /* everything written to stdout and stderr */
-} result;
-
-static char *read_file(const char *path, size_t *len)
-{
-    FILE *f = fopen(path, "rb");
-    char *buf = NULL;
-    size_t cap = 0, n = 0, got;
-    if (!f)
-        return NULL;
-    do {
-        if (n + 4096 + 1 > cap) {
-            char *p;
-            cap = 2 * cap + 4096 + 1;
-            p = realloc(buf, cap);
-            if (!p) {
-                free(buf);
-                fclose(f);
-                return NULL;
-            }
-            buf = p;
-        }
-        got = fread(buf + n, 1, 4096, f);
-        n += got;
-    } while (got > 0);
-    fclose(f);
-    buf[n] = '\0';
-    if (len)
-        *len = n;
-    return buf;
-}
-
-static void scratch(char *buf, size_t len, const char *name)
-{
-    snprintf(buf, len, "%s/%s", tmpdir, name);
-}
-
-static void result_free(result *r)
-{
-    free(r->out);
-    free(r->err);
-    r->out = r->err = NULL;
-}
-
-/* Run eom-run with args (NULL-terminated) and capture its output. */
-static void run(result *r, const char *const *args)
-{
-    char out_path[300], err_path[300], wrap[1024];
-    const char *argv[64];
-    const char *w = getenv("EOM_CLI_WRAPPER");
-    int argc = 0, st;
-    pid_t pid;
-
-    if (w && *w) {
-        char *tok;
-        snprintf(wrap, sizeof wrap, "%s", w);
-        for (tok = strtok(wrap, " "); tok && argc < 16;
-             tok = strtok(NULL, " "))
-            argv[argc++] = tok;
-    }
-    argv[argc++] = eom_run;
-    while (*args && argc < 63)
-        argv[argc++] = *args++;
-    argv[argc] = NULL;
-
-    scratch(out_path, sizeof out_path, "stdout.txt");
-    scratch(err_path, sizeof err_path, "stderr.txt");
-    fflush(NULL);
-    pid = fork();
-    if (pid == 0) {
-        int fo = open(out_path, O_WRONLY | O_CREAT | O_TRUNC, 0600);
-        int fe = open(err_path, O_WRONLY | O_CREAT | O_TRUNC, 0600);
-        if (fo < 0 || fe < 0 || dup2(fo, 1) < 0 || dup2(fe, 2) < 0)
-            _exit(126);
-        /* execvp's argv is char *const[]: the strings are not modified */
-        execvp(argv[0], (char *const *)(void *)argv);
-        _exit(127);
-    }
-    r->status = -1;
-    if (pid > 0 && waitpid(pid, &st, 0) == pid)
-        r->status = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
-    r->out = read_file(out_path, NULL);
-    r->err = read_file(err_path, NULL);
-    if (!r->out || !r->err) {
-        fprintf(stderr, "cannot read the output of eom-run\n");
-        exit(EXIT_FAILURE);
-    }
-    unlink(out_path);
-    unlink(err_path);
-}
-
-/* s contains word (case-sensitive). */
-static int has(const char *s, const char *word)
-{
-    return s && strstr(s, word) != NULL;
-}
-
-#define CHECK_HAS(s, word)                                                 \
-    do {                                                                   \
-        check_count_++;                                                    \
-        if (!has((s), (word)))                                             \
-            CHECK_FAIL_("'%s' not found in %s:\n%s", (word), #s,          \
-                        (s) ? (s) : "(null)");                             \
-    } while (0)
-
-/* ---- reading the CSV ---------------------------------------------------- */
-
-typedef struct csv {
-    char header[1024];
-    int ncols, nrows;
-    double *v; /* nrows x ncols */
-} csv;
-
-/* Parse text as a CSV of numbers after one header row. Returns 0, or -1
- * (with a failed check) if a row is ragged or a field is not a number. */
-static int csv_parse(const char *text, csv *c)
-{
-    const char *p = strchr(text, '\n'), *line;
-    int cap = 0;
-    memset(c, 0, sizeof *c);
-    if (!p || (size_t)(p - text) >= sizeof c->header) {
-        CHECK_FAIL_("CSV without a header row:\n%.200s", text);
-        return -1;
-    }
-    memcpy(c->header, text, (size_t)(p - text));
-    c->ncols = 1;
-    for (line = c->header; *line; line++)
-        c->ncols += *line == ',';
-    for (line = p + 1; *line; ) {
-        int j;
-        if (c->nrows == cap) {
-            cap = cap ? 2 * cap : 64;
-            c->v = realloc(c->v, (size_t)cap * (size_t)c->ncols *
-                                     sizeof(double));
-            if (!c->v)
-                exit(EXIT_FAILURE);
-        }
-        for (j = 0; j < c->ncols; j++) {
-            char *end;
-            double x = strtod(line, &end);
-            char want = j + 1 < c->ncols ? ',' : '\n';
-            if (end == line || *end != want) {
-                CHECK_FAIL_("CSV row %d, column %d is malformed: %.60s",
-                            c->nrows + 1, j + 1, line);
-                return -1;
-            }
-            c->v[c->nrows * c->ncols + j] = x;
-            line = end + 1;
-        }
-        c->nrows++;
-    }
-    return 0;
-}
-
-static double at(const csv *c, int row, int col)
-{
-    return c->v[row * c->ncols + col];
-}
 
 /* Run eom-run (args NULL-terminated, which must write the CSV to the
  * scratch file out.csv) and parse the file. Returns the exit status. */
@@ -203,7 +35,13 @@ static int run_csv(csv *c, const char *const *args, result *r)
                     r->err);
         return r->status;
     }
-    csv_parse(text, c);
+    {
+        char msg[512];
+        int ok = csv_parse(text, c, msg, sizeof msg) == 0;
+        check_count_++;
+        if (!ok)
+            CHECK_FAIL_("%s", msg);
+    }
     free(text);
     unlink(path);
     return r->status;
@@ -712,27 +550,22 @@ static const struct {
 
 int main(int argc, char **argv)
 {
-    const char *base = getenv("TMPDIR");
     size_t i;
     int found = 0;
     if (argc < 3) {
         fprintf(stderr, "usage: test_cli EOM_RUN CASE [DOCS_CLI_MD]\n");
         return EXIT_FAILURE;
     }
-    eom_run = argv[1];
+    cli_program = argv[1];
     docs_cli = argc > 3 ? argv[3] : NULL;
-    snprintf(tmpdir, sizeof tmpdir, "%s/eom-cli-XXXXXX",
-             base && *base ? base : "/tmp");
-    if (!mkdtemp(tmpdir)) {
-        fprintf(stderr, "mkdtemp %s: %s\n", tmpdir, strerror(errno));
+    if (cli_setup() != 0)
         return EXIT_FAILURE;
-    }
     for (i = 0; i < sizeof cases / sizeof cases[0]; i++)
         if (strcmp(cases[i].name, argv[2]) == 0) {
             cases[i].fn();
             found = 1;
         }
-    rmdir(tmpdir);
+    cli_cleanup();
     if (!found) {
         fprintf(stderr, "test_cli: unknown case '%s'\n", argv[2]);
         return EXIT_FAILURE;

@@ -100,14 +100,14 @@ static int test_build(const double *settings, eom_model **out, char *err,
 }
 
 static const demo test_demo = {"test-demo", "a demo with settings",
-                               test_settings, 2, test_build, NULL};
+                               test_settings, 2, test_build, NULL, NULL};
 
 /* A demo whose setting is also a parameter name: a registry error. */
 static const demo_setting clash_settings[] = {
     {"k", "", 1, 1, 2, 1, "clashes with the parameter k"},
 };
 static const demo clash_demo = {"clash", "bad", clash_settings, 1,
-                                test_build, NULL};
+                                test_build, NULL, NULL};
 
 static void test_overrides(void)
 {

@@ -1,0 +1,152 @@
+/* chain_plots.c - the plots of the chain demos (see chain_plots.h),
+ * written beside the run's CSV under its name without ".csv" (PREFIX):
+ *
+ *   PREFIX-energy      kinetic energy per link, rigid and flexible parts
+ *   PREFIX-snapshots   the deformed chain at 8 times (+ PREFIX-snapshots.dat)
+ *   PREFIX-total-energy  E, W and E + W, and the drift E + W - E(0)
+ *   PREFIX-residuals   |phi| and |C qd| on a log scale (closed chains)
+ *
+ * each as .png and .svg, made by gnuplot from a script PREFIX-NAME.gp
+ * that is kept (rerun it with `cd DIR && gnuplot PREFIX-NAME.gp`), and
+ * PREFIX-animation.html. Everything is read back from the CSV file, so the
+ * plots show what the file holds. The scripts and the page are written
+ * first and gnuplot runs last: when gnuplot is missing, the user still has
+ * the CSV, the scripts and the animation. */
+#include "chain_plots.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "chain_animation.h"
+#include "chain_shape.h"
+#include "chain_plot_scripts.h"
+#include "csv_reader.h"
+#include "gnuplot_run.h"
+
+/* The plots, in the order they are made. */
+static const struct {
+    const char *name;
+    int closed_only; /* residuals: only a closed chain has constraints */
+} plots[] = {
+    {"energy", 0},
+    {"snapshots", 0},
+    {"total-energy", 0},
+    {"residuals", 1},
+};
+enum { NPLOTS = sizeof plots / sizeof plots[0] };
+
+/* Where the files go: dir (no trailing '/') and the prefix of their
+ * names. */
+typedef struct place {
+    char dir[4096];
+    char prefix[1024];
+    char csv_name[1024]; /* the CSV's name within dir */
+} place;
+
+static int place_of(place *p, const char *csv_path, char *err,
+                    size_t errlen)
+{
+    const char *slash = strrchr(csv_path, '/');
+    const char *base = slash ? slash + 1 : csv_path;
+    size_t lb = strlen(base), ld = slash ? (size_t)(slash - csv_path) : 0;
+    if (lb == 0 || lb >= sizeof p->prefix || ld >= sizeof p->dir) {
+        snprintf(err, errlen, "cannot make plot names from '%s'", csv_path);
+        return -1;
+    }
+    if (!slash)
+        snprintf(p->dir, sizeof p->dir, ".");
+    else if (ld == 0)
+        snprintf(p->dir, sizeof p->dir, "/");
+    else
+        snprintf(p->dir, sizeof p->dir, "%.*s", (int)ld, csv_path);
+    snprintf(p->csv_name, sizeof p->csv_name, "%s", base);
+    if (lb > 4 && strcmp(base + lb - 4, ".csv") == 0)
+        lb -= 4;
+    snprintf(p->prefix, sizeof p->prefix, "%.*s", (int)lb, base);
+    return 0;
+}
+
+/* dir/prefix-suffix into buf; -1 if it does not fit. */
+static int path_of(const place *p, const char *suffix, char *buf,
+                   size_t len)
+{
+    int w = snprintf(buf, len, "%s/%s-%s", p->dir, p->prefix, suffix);
+    return w > 0 && (size_t)w < len ? 0 : -1;
+}
+
+int chain_plots_write(const eom_system *s, int links, const char *csv_path,
+                      char *err, size_t errlen)
+{
+    csv_table *t = NULL;
+    chain_shape *c = NULL;
+    plot_job job;
+    place p;
+    char path[8192], name[2048], msg[1024], title[1100];
+    int rc = -1, k, kg;
+
+    if (place_of(&p, csv_path, err, errlen) != 0)
+        return -1;
+    if (csv_table_read(&t, csv_path, msg, sizeof msg) != 0) {
+        snprintf(err, errlen, "plots: reading '%s': %s", csv_path, msg);
+        return -1;
+    }
+    if (t->nrows < 1) {
+        snprintf(err, errlen, "plots: '%s' has no rows", csv_path);
+        goto done;
+    }
+    if (chain_shape_new(&c, s, links, t, msg, sizeof msg) != 0) {
+        snprintf(err, errlen, "plots: %s", msg);
+        goto done;
+    }
+    memset(&job, 0, sizeof job);
+    job.t = t;
+    job.c = c;
+    job.csv_name = p.csv_name;
+    job.prefix = p.prefix;
+    job.exaggeration = chain_shape_exaggeration(c, t);
+    kg = eom_param_index(s, "g");
+    job.gravity = kg >= 0 && eom_get_param(s, kg) != 0.0;
+
+    /* everything that does not need gnuplot first; path always fits
+     * (dir and prefix are bounded), but say so if it ever does not */
+    snprintf(title, sizeof title, "%.1000s: the deformed chain over time",
+             p.csv_name);
+    if (path_of(&p, "animation.html", path, sizeof path) != 0)
+        goto too_long;
+    if (chain_animation_write(path, c, t, title, job.exaggeration,
+                              job.gravity, err, errlen) != 0)
+        goto done;
+    if (path_of(&p, "snapshots.dat", path, sizeof path) != 0)
+        goto too_long;
+    if (chain_snapshots_dat(path, &job, err, errlen) != 0)
+        goto done;
+    for (k = 0; k < NPLOTS; k++) {
+        if (plots[k].closed_only && !c->closed)
+            continue;
+        snprintf(name, sizeof name, "%s.gp", plots[k].name);
+        if (path_of(&p, name, path, sizeof path) != 0)
+            goto too_long;
+        if (chain_plot_script(path, plots[k].name, &job, err, errlen) != 0)
+            goto done;
+    }
+    for (k = 0; k < NPLOTS; k++) {
+        if (plots[k].closed_only && !c->closed)
+            continue;
+        snprintf(name, sizeof name, "%s-%s.gp", p.prefix, plots[k].name);
+        if (gnuplot_run(p.dir, name, msg, sizeof msg) != 0) {
+            snprintf(err, errlen, "plots: %s; the CSV, the gnuplot scripts "
+                     "and the animation are written", msg);
+            goto done;
+        }
+    }
+    rc = 0;
+    goto done;
+too_long:
+    snprintf(err, errlen, "plots: the path '%s' is too long", csv_path);
+done:
+    chain_shape_free(&c);
+    csv_table_free(&t);
+    return rc;
+}
