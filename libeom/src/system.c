@@ -203,6 +203,34 @@ static int body_phi(eom_ctx *c)
     return 0;
 }
 
+int eom_model_run_lagrangian(const eom_model *m, tp_rec *r, const double *x)
+{
+    eom_ctx c;
+    rec_arg arg;
+    int rc;
+    if (!m || !r || !x)
+        return EOM_ERR_NULL;
+    if (m->status != EOM_OK)
+        return m->status;
+    if (m->n_coords < 1 || (!m->L.set && m->T.n == 0))
+        return EOM_ERR_MODEL;
+    if (tp_rec_n_indep(r) != 2 * m->n_coords)
+        return EOM_ERR_ARG;
+    memset(&c, 0, sizeof c);
+    c.r = r;
+    c.m = m;
+    c.role = EOM_ROLE_STATE;
+    c.n = m->n_coords;
+    arg.c = &c;
+    arg.body = body_L;
+    rc = tp_rec_run(r, x, run_body, &arg);
+    if (c.status != EOM_OK)
+        return c.status;
+    if (rc == TP_ERR_NOMEM)
+        return EOM_ERR_NOMEM;
+    return rc < 0 ? EOM_ERR_RECORD : EOM_OK;
+}
+
 /* Record one tape and make its workspace and parameter map. */
 static int record(eom_system *s, const eom_model *m, eom_tape *et,
                   eom_role role, body_fn body, const char *what, int dirs)

@@ -10,7 +10,9 @@
  *   - probes: rigid + flexible parts sum to each link's kinetic energy (the
  *     rigid part is that of the chord as a rigid rod), strain probes sum to
  *     the strain energy;
- *   - the tape of the Lagrangian grows linearly with the number of links.
+ *   - the tape of the Lagrangian grows linearly with the number of links;
+ *   - the model's Lagrangian run on the embedded-tuple engine
+ *     (eom_model_run_lagrangian) gives the tape's mass matrix and forces.
  */
 #include <math.h>
 #include <stdlib.h>
@@ -231,9 +233,61 @@ static void linear_growth(void)
     }
 }
 
+static void tuples_agree(void)
+{
+    const chain_case cc = {3, {2, 0, 3}, {1.0, 2.0, 0.5}, {10.0, 4.0, 7.0},
+                           {4e3, 1e3, 2e4}, 9.81};
+    eom_chain_spec sp;
+    eom_model *md = NULL;
+    eom_system *s = NULL;
+    tp_rec *tu = NULL;
+    double x[32], M[256], Mt[256], g[16], h[16], L;
+    int n, i, j;
+    memset(&sp, 0, sizeof sp);
+    sp.links = cc.N;
+    sp.modes = cc.K;
+    sp.m_link = cc.m;
+    sp.L_link = cc.L;
+    sp.EI_link = cc.EI;
+    sp.g = cc.g;
+    if (eom_model_new(&md) != EOM_OK || eom_chain_add(md, &sp) != 0 ||
+        eom_system_new(&s, md, NULL, 0) != EOM_OK) {
+        CHECK(!"building the chain");
+        eom_model_free(&md);
+        return;
+    }
+    n = eom_system_ncoords(s);
+    for (i = 0; i < 2 * n; i++)
+        x[i] = 0.1 * i - 0.7 + 0.05 * sin(3.0 * i);
+    CHECK_INT(tp_tuple_new(&tu, 2 * n, NULL), TP_OK);
+    CHECK_INT(eom_model_run_lagrangian(md, tu, x), EOM_OK);
+    CHECK_INT(tp_tuple_lagrange(tu, 0, &L, g, Mt, h), TP_OK);
+    CHECK_INT(eom_mass_matrix(s, x, M), EOM_OK);
+    for (i = 0; i < n; i++)
+        for (j = 0; j < n; j++)
+            CHECK_NEAR(Mt[i * n + j], M[i * n + j], 1e-13);
+    /* the right-hand side from the tuples' blocks equals eom_rhs's force:
+     * M qdd = dL/dq - h */
+    {
+        double xd[32], r;
+        CHECK_INT(eom_rhs(s, 0.0, x, xd), EOM_OK);
+        for (i = 0; i < n; i++) {
+            r = 0.0;
+            for (j = 0; j < n; j++)
+                r += M[i * n + j] * xd[n + j];
+            CHECK_NEAR(r, g[i] - h[i], 1e-11);
+        }
+    }
+    CHECK_INT(eom_model_run_lagrangian(md, NULL, x), EOM_ERR_NULL);
+    tp_rec_free(&tu);
+    eom_system_free(&s);
+    eom_model_free(&md);
+}
+
 int main(void)
 {
     energies();
+    tuples_agree();
     rigid_probe();
     linear_growth();
     CHECK_DONE();

@@ -152,6 +152,16 @@ EOM_API tp_val eom_qd(eom_ctx *c, int i);
 EOM_API tp_val eom_time(eom_ctx *c);
 EOM_API tp_val eom_param(eom_ctx *c, const char *name);
 
+/* Run the model's Lagrangian (T - V, or L) once on any libtape context r
+ * made for 2n independents, at x = (q, qd) (x may be NULL for the
+ * recorder): with the embedded-tuple evaluator (tp_tuple_new) this gives
+ * the same derivative blocks as the tape from the same source
+ * (tp_tuple_lagrange), with the double evaluator its value. Parameters
+ * take their defaults (tp_rec_set_param overrides them in evaluators).
+ * The output is named "L". Returns a status. */
+EOM_API int eom_model_run_lagrangian(const eom_model *m, tp_rec *r,
+                                     const double *x);
+
 /* ---- systems ---------------------------------------------------------- */
 
 typedef struct eom_system eom_system;
