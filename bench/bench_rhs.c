@@ -1,0 +1,466 @@
+/* bench_rhs.c - the cost of one right-hand-side evaluation (qdd from the
+ * state) of chains of rigid and flexible links, by every route:
+ *
+ *   tape        libeom's eom_rhs, as users call it;
+ *   tuples      the same model source run on the embedded-tuple engine
+ *               (eom_model_run_lagrangian), then the same Cholesky solve;
+ *   hand-coded  rigid chains: M and the forces typed in closed form, then
+ *               Cholesky (chain_plain.c): the limit of a Lagrangian route;
+ *   ADOL-C      rigid chains, when built with it (bench/adolc): its vector
+ *               forward-over-reverse driver, and hessian();
+ * each as a multiple of a plain compiled evaluation of L and of the
+ * hand-coded right-hand side. Methods are interleaved in each repetition
+ * (rotating order) and the table gives medians of the per-repetition
+ * ratios; every method's qdd is checked against the tape's in the run.
+ * A last table times LAPACK's Cholesky against a plain inline one for
+ * tiny matrices (is a small-matrix path worth having?).
+ *
+ * usage: bench-rhs [--quick] [--reps R] */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bench_util.h"
+#include "chain_plain.h"
+#include "eom/chain.h"
+#ifdef HAVE_ADOLC
+#include "adolc_rhs.h"
+#endif
+
+void dpotrf_(const char *uplo, const int *n, double *a, const int *lda,
+             int *info, size_t uplo_len);
+void dpotrs_(const char *uplo, const int *n, const int *nrhs,
+             const double *a, const int *lda, double *b, const int *ldb,
+             int *info, size_t uplo_len);
+
+static const double pi = 3.14159265358979323846;
+
+enum { M_PLAIN, M_TAPE, M_TUPLE, M_HAND, M_ADOLC_VEC, M_ADOLC_HESS,
+       M_COUNT };
+static const char *const mname[M_COUNT] = {
+    "plain L", "tape", "tuples", "hand-coded", "ADOL-C vector",
+    "ADOL-C hessian"};
+
+/* Embedded tuples hold n (2n + 1) doubles per value: beyond this many
+ * coordinates a run would need gigabytes, so the route is skipped. */
+#define TUPLE_MAX_N 60
+
+typedef struct ctx {
+    int n;              /* coordinates */
+    double *x, *xd;     /* [2n] state and its derivative */
+    double *qdd;        /* = xd + n: every route writes qdd here */
+    chain_plain cp;
+    eom_model *model;
+    eom_system *s;
+    tp_rec *tup;
+    double *M, *g, *h;  /* tuple blocks */
+    chain_hand *hand;
+#ifdef HAVE_ADOLC
+    adolc_rhs *ad[2];
+#endif
+    int have[M_COUNT];
+    double sink;
+} ctx;
+
+static void nudge(ctx *c)
+{
+    c->x[0] += 1e-9; /* a new point every call: nothing can be reused */
+}
+
+static void run_plain(void *p)
+{
+    ctx *c = p;
+    nudge(c);
+    c->sink += chain_plain_L(&c->cp, c->x);
+}
+
+static void run_tape(void *p)
+{
+    ctx *c = p;
+    nudge(c);
+    eom_rhs(c->s, 0.0, c->x, c->xd);
+    c->sink += c->qdd[0];
+}
+
+/* The tuples' blocks, then the same solve as libeom (LAPACK Cholesky). */
+static int tuple_rhs(ctx *c)
+{
+    const int n = c->n;
+    int i, info = 0, one = 1;
+    if (eom_model_run_lagrangian(c->model, c->tup, c->x) != EOM_OK ||
+        tp_tuple_lagrange(c->tup, 0, NULL, c->g, c->M, c->h) < 0)
+        return -1;
+    for (i = 0; i < n; i++)
+        c->qdd[i] = c->g[i] - c->h[i];
+    dpotrf_("L", &n, c->M, &n, &info, 1);
+    if (info == 0)
+        dpotrs_("L", &n, &one, c->M, &n, c->qdd, &n, &info, 1);
+    return info;
+}
+
+static void run_tuple(void *p)
+{
+    ctx *c = p;
+    nudge(c);
+    tuple_rhs(c);
+    c->sink += c->qdd[0];
+}
+
+static void run_hand(void *p)
+{
+    ctx *c = p;
+    nudge(c);
+    chain_plain_hand_rhs(c->hand, c->x, c->qdd);
+    c->sink += c->qdd[0];
+}
+
+#ifdef HAVE_ADOLC
+static void run_adolc_vec(void *p)
+{
+    ctx *c = p;
+    nudge(c);
+    adolc_rhs_eval(c->ad[0], c->x, c->qdd, NULL);
+    c->sink += c->qdd[0];
+}
+
+static void run_adolc_hess(void *p)
+{
+    ctx *c = p;
+    nudge(c);
+    adolc_rhs_eval(c->ad[1], c->x, c->qdd, NULL);
+    c->sink += c->qdd[0];
+}
+#endif
+
+static void (*const mfn[M_COUNT])(void *) = {
+    run_plain, run_tape, run_tuple, run_hand,
+#ifdef HAVE_ADOLC
+    run_adolc_vec, run_adolc_hess,
+#else
+    NULL, NULL,
+#endif
+};
+
+/* Unequal links, so no symmetry helps any method. */
+static double link_m(int j) { return 1.0 + 0.1 * (j % 7); }
+static double link_L(int j) { return 10.0 - 0.3 * (j % 5); }
+
+static int setup(ctx *c, int links, int modes, double *mv, double *Lv,
+                 double *EIv)
+{
+    eom_chain_spec sp;
+    char msg[256];
+    int j, i;
+    memset(c, 0, sizeof *c);
+    for (j = 0; j < links; j++) {
+        mv[j] = link_m(j);
+        Lv[j] = link_L(j);
+        EIv[j] = 4e4;
+    }
+    memset(&sp, 0, sizeof sp);
+    sp.links = links;
+    sp.modes_all = modes;
+    sp.m_link = mv;
+    sp.L_link = Lv;
+    sp.EI_link = EIv;
+    sp.g = 9.81;
+    if (eom_model_new(&c->model) != EOM_OK ||
+        eom_chain_add(c->model, &sp) < 0 ||
+        eom_system_new(&c->s, c->model, msg, sizeof msg) != EOM_OK) {
+        fprintf(stderr, "bench-rhs: set-up failed: %s\n", msg);
+        return -1;
+    }
+    c->n = eom_system_ncoords(c->s);
+    c->x = calloc(4 * (size_t)c->n, sizeof(double));
+    if (!c->x)
+        return -1;
+    c->xd = c->x + 2 * c->n;
+    c->qdd = c->xd + c->n;
+    /* a hanging zig-zag, moving, slightly bent */
+    for (j = 0; j < links; j++) {
+        c->x[j] = -pi / 2 + (j % 2 ? -0.4 : 0.3) + 0.01 * j;
+        c->x[c->n + j] = 0.2 * sin(1.0 + j);
+    }
+    for (i = links; i < c->n; i++) {
+        c->x[i] = 1e-3 * cos(i);
+        c->x[c->n + i] = 1e-2 * sin(2.0 * i);
+    }
+    c->cp.links = links;
+    c->cp.modes = modes;
+    c->cp.m = mv;
+    c->cp.L = Lv;
+    c->cp.EI = EIv;
+    c->cp.g = 9.81;
+    c->have[M_PLAIN] = c->have[M_TAPE] = 1;
+    if (c->n <= TUPLE_MAX_N && tp_tuple_new(&c->tup, 2 * c->n, NULL) == 0) {
+        c->M = calloc((size_t)c->n * (size_t)(c->n + 2), sizeof(double));
+        c->g = c->M + (size_t)c->n * (size_t)c->n;
+        c->h = c->g + c->n;
+        c->have[M_TUPLE] = c->M != NULL;
+    }
+    if (modes == 0 && chain_plain_hand_new(&c->hand, &c->cp) == 0)
+        c->have[M_HAND] = 1;
+#ifdef HAVE_ADOLC
+    if (modes == 0) {
+        c->have[M_ADOLC_VEC] =
+            adolc_rhs_new(&c->ad[0], links, mv, Lv, 9.81,
+                          ADOLC_DRIVER_VECTOR, 1) == 0;
+        c->have[M_ADOLC_HESS] =
+            adolc_rhs_new(&c->ad[1], links, mv, Lv, 9.81,
+                          ADOLC_DRIVER_HESSIAN, 2) == 0;
+    }
+#endif
+    return 0;
+}
+
+static void teardown(ctx *c)
+{
+#ifdef HAVE_ADOLC
+    adolc_rhs_free(&c->ad[0]);
+    adolc_rhs_free(&c->ad[1]);
+#endif
+    chain_plain_hand_free(&c->hand);
+    tp_rec_free(&c->tup);
+    eom_system_free(&c->s);
+    eom_model_free(&c->model);
+    free(c->M);
+    free(c->x);
+}
+
+/* The largest relative difference of each method's qdd from the tape's. */
+static double agreement(ctx *c, int k)
+{
+    const int n = c->n;
+    double e = 0.0, scale = 0.0, *q = malloc((size_t)n * sizeof(double));
+    int i;
+    if (!q)
+        return INFINITY;
+    mfn[k](c); /* writes c->qdd at a nudged point: redo the reference */
+    memcpy(q, c->qdd, (size_t)n * sizeof(double));
+    c->x[0] -= 1e-9;
+    run_tape(c);
+    for (i = 0; i < n; i++) {
+        e = fmax(e, fabs(q[i] - c->qdd[i]));
+        scale = fmax(scale, fabs(c->qdd[i]));
+    }
+    free(q);
+    return e / fmax(scale, 1e-300);
+}
+
+typedef struct result {
+    int n;
+    double t_plain;          /* seconds */
+    double x_plain[M_COUNT]; /* median ratio to plain L */
+    double x_hand[M_COUNT];  /* median ratio to hand-coded */
+    double agree[M_COUNT];
+} result;
+
+static int measure(int links, int modes, int reps, double min_batch,
+                   result *r)
+{
+    double *mv = malloc(3 * (size_t)links * sizeof(double));
+    double *rp[M_COUNT], *rh[M_COUNT], *tp = malloc((size_t)reps * 8);
+    long batch[M_COUNT];
+    ctx c;
+    int k, i, rep;
+    if (!mv || !tp || setup(&c, links, modes, mv, mv + links,
+                            mv + 2 * links) != 0)
+        return -1;
+    memset(r, 0, sizeof *r);
+    r->n = c.n;
+    for (k = 0; k < M_COUNT; k++) {
+        rp[k] = malloc((size_t)reps * sizeof(double));
+        rh[k] = malloc((size_t)reps * sizeof(double));
+        r->agree[k] = NAN;
+        r->x_plain[k] = r->x_hand[k] = NAN;
+        if (c.have[k] && k != M_PLAIN)
+            r->agree[k] = agreement(&c, k);
+        batch[k] = c.have[k] ? bench_calibrate(mfn[k], &c, min_batch) : 0;
+    }
+    for (rep = 0; rep < reps; rep++) {
+        double t[M_COUNT];
+        for (i = 0; i < M_COUNT; i++) {
+            k = (i + rep) % M_COUNT; /* rotate the order */
+            t[k] = c.have[k] ? bench_time(mfn[k], &c, batch[k]) : NAN;
+        }
+        tp[rep] = t[M_PLAIN];
+        for (k = 0; k < M_COUNT; k++) {
+            rp[k][rep] = t[k] / t[M_PLAIN];
+            rh[k][rep] = c.have[M_HAND] ? t[k] / t[M_HAND] : NAN;
+        }
+    }
+    r->t_plain = bench_median(tp, reps);
+    for (k = 0; k < M_COUNT; k++) {
+        if (c.have[k]) {
+            r->x_plain[k] = bench_median(rp[k], reps);
+            if (c.have[M_HAND])
+                r->x_hand[k] = bench_median(rh[k], reps);
+        }
+        free(rp[k]);
+        free(rh[k]);
+    }
+    if (c.sink == 12345.678)
+        puts("");
+    teardown(&c);
+    free(mv);
+    free(tp);
+    return 0;
+}
+
+/* ---- LAPACK against an inline Cholesky for tiny matrices --------------- */
+
+typedef struct chol_ctx {
+    int n;
+    double *A, *W, *b, sink;
+} chol_ctx;
+
+static void chol_lapack(void *p)
+{
+    chol_ctx *c = p;
+    int info = 0, one = 1;
+    memcpy(c->W, c->A, (size_t)c->n * (size_t)c->n * sizeof(double));
+    c->b[0] += 1e-12;
+    dpotrf_("L", &c->n, c->W, &c->n, &info, 1);
+    dpotrs_("L", &c->n, &one, c->W, &c->n, c->b, &c->n, &info, 1);
+    c->sink += c->b[0];
+}
+
+static void chol_inline(void *p)
+{
+    chol_ctx *c = p;
+    const int n = c->n;
+    double *L = c->W, *b = c->b;
+    int i, j, k;
+    memcpy(L, c->A, (size_t)n * (size_t)n * sizeof(double));
+    b[0] += 1e-12;
+    for (j = 0; j < n; j++) {
+        double d = L[j * n + j];
+        for (k = 0; k < j; k++)
+            d -= L[j * n + k] * L[j * n + k];
+        d = sqrt(d);
+        L[j * n + j] = d;
+        for (i = j + 1; i < n; i++) {
+            double s = L[i * n + j];
+            for (k = 0; k < j; k++)
+                s -= L[i * n + k] * L[j * n + k];
+            L[i * n + j] = s / d;
+        }
+    }
+    for (i = 0; i < n; i++) { /* L y = b */
+        for (k = 0; k < i; k++)
+            b[i] -= L[i * n + k] * b[k];
+        b[i] /= L[i * n + i];
+    }
+    for (i = n; i-- > 0;) { /* L^T x = y */
+        for (k = i + 1; k < n; k++)
+            b[i] -= L[k * n + i] * b[k];
+        b[i] /= L[i * n + i];
+    }
+    c->sink += b[0];
+}
+
+static void cholesky_table(int reps, double min_batch)
+{
+    static const int sizes[] = {2, 3, 5, 10, 20};
+    size_t s;
+    printf("\nCholesky factor and solve of an n x n SPD matrix: time in ns "
+           "(median of %d)\n\n| n | LAPACK dpotrf + dpotrs | inline | "
+           "LAPACK / inline |\n|---|---|---|---|\n", reps);
+    for (s = 0; s < sizeof sizes / sizeof sizes[0]; s++) {
+        const int n = sizes[s];
+        chol_ctx c;
+        double *tl = malloc((size_t)reps * 8), *ti = malloc((size_t)reps * 8),
+               *rt = malloc((size_t)reps * 8);
+        long bl, bi;
+        int i, j, rep;
+        c.n = n;
+        c.sink = 0.0;
+        c.A = calloc((size_t)(2 * n * n + n), sizeof(double));
+        c.W = c.A + n * n;
+        c.b = c.W + n * n;
+        for (i = 0; i < n; i++) {
+            for (j = 0; j < n; j++)
+                c.A[i * n + j] = 1.0 / (1.0 + i + j) + (i == j ? n : 0.0);
+            c.b[i] = 1.0;
+        }
+        bl = bench_calibrate(chol_lapack, &c, min_batch);
+        bi = bench_calibrate(chol_inline, &c, min_batch);
+        for (rep = 0; rep < reps; rep++) {
+            tl[rep] = bench_time(chol_lapack, &c, bl);
+            ti[rep] = bench_time(chol_inline, &c, bi);
+            rt[rep] = tl[rep] / ti[rep];
+        }
+        printf("| %d | %.0f | %.0f | %.1f |\n", n,
+               1e9 * bench_median(tl, reps), 1e9 * bench_median(ti, reps),
+               bench_median(rt, reps));
+        free(c.A);
+        free(tl);
+        free(ti);
+        free(rt);
+    }
+}
+
+int main(int argc, char **argv)
+{
+    static const int rigid[] = {2, 5, 10, 20, 50};
+    static const int flex[][2] = {{3, 2}, {5, 1}, {10, 2}, {20, 3}, {50, 3}};
+    int reps = 15, quick = 0, i, k, ok = 1;
+    double min_batch = 5e-3;
+    for (i = 1; i < argc; i++) {
+        if (!strcmp(argv[i], "--quick")) {
+            quick = 1;
+            reps = 3;
+            min_batch = 2e-4;
+        } else if (!strcmp(argv[i], "--reps") && i + 1 < argc) {
+            reps = atoi(argv[++i]);
+        } else {
+            fprintf(stderr, "usage: bench-rhs [--quick] [--reps R]\n");
+            return 2;
+        }
+    }
+    if (reps < 1)
+        return 2;
+    printf("Right-hand side of chains of links: time as multiples of a "
+           "plain compiled evaluation of L (median of %d interleaved "
+           "repetitions); in brackets, as multiples of the hand-coded "
+           "right-hand side\n\n| chain | n | plain L (us) |", reps);
+    for (k = 1; k < M_COUNT; k++)
+        printf(" %s |", mname[k]);
+    printf(" agreement |\n|---|---|---|");
+    for (k = 1; k < M_COUNT; k++)
+        printf("---|");
+    printf("---|\n");
+    for (i = 0; i < 10; i++) {
+        const int links = i < 5 ? rigid[i] : flex[i - 5][0];
+        const int modes = i < 5 ? 0 : flex[i - 5][1];
+        result r;
+        double worst = 0.0;
+        if (quick && (links > 5))
+            continue;
+        if (measure(links, modes, reps, min_batch, &r) != 0)
+            return 1;
+        if (modes)
+            printf("| %d links x %d mode%s | %d | %.2f |", links, modes,
+                   modes == 1 ? "" : "s", r.n, 1e6 * r.t_plain);
+        else
+            printf("| %d rigid links | %d | %.2f |", links, r.n,
+                   1e6 * r.t_plain);
+        for (k = 1; k < M_COUNT; k++) {
+            if (isnan(r.x_plain[k])) {
+                printf(" - |");
+                continue;
+            }
+            if (isnan(r.x_hand[k]))
+                printf(" %.1f |", r.x_plain[k]);
+            else
+                printf(" %.1f (%.2f) |", r.x_plain[k], r.x_hand[k]);
+            worst = fmax(worst, r.agree[k]);
+        }
+        printf(" %.1e |%s\n", worst, worst < 1e-9 ? "" : " DISAGREE");
+        ok &= worst < 1e-9;
+        fflush(stdout);
+    }
+    cholesky_table(reps, min_batch);
+    return ok ? 0 : 1;
+}
