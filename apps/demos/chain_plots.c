@@ -24,6 +24,7 @@
 #include "chain_plot_scripts.h"
 #include "csv_reader.h"
 #include "gnuplot_run.h"
+#include "plot_place.h"
 
 /* The plots, in the order they are made. */
 static const struct {
@@ -37,56 +38,17 @@ static const struct {
 };
 enum { NPLOTS = sizeof plots / sizeof plots[0] };
 
-/* Where the files go: dir (no trailing '/') and the prefix of their
- * names. */
-typedef struct place {
-    char dir[4096];
-    char prefix[1024];
-    char csv_name[1024]; /* the CSV's name within dir */
-} place;
-
-static int place_of(place *p, const char *csv_path, char *err,
-                    size_t errlen)
-{
-    const char *slash = strrchr(csv_path, '/');
-    const char *base = slash ? slash + 1 : csv_path;
-    size_t lb = strlen(base), ld = slash ? (size_t)(slash - csv_path) : 0;
-    if (lb == 0 || lb >= sizeof p->prefix || ld >= sizeof p->dir) {
-        snprintf(err, errlen, "cannot make plot names from '%s'", csv_path);
-        return -1;
-    }
-    if (!slash)
-        snprintf(p->dir, sizeof p->dir, ".");
-    else if (ld == 0)
-        snprintf(p->dir, sizeof p->dir, "/");
-    else
-        snprintf(p->dir, sizeof p->dir, "%.*s", (int)ld, csv_path);
-    snprintf(p->csv_name, sizeof p->csv_name, "%s", base);
-    if (lb > 4 && strcmp(base + lb - 4, ".csv") == 0)
-        lb -= 4;
-    snprintf(p->prefix, sizeof p->prefix, "%.*s", (int)lb, base);
-    return 0;
-}
-
-/* dir/prefix-suffix into buf; -1 if it does not fit. */
-static int path_of(const place *p, const char *suffix, char *buf,
-                   size_t len)
-{
-    int w = snprintf(buf, len, "%s/%s-%s", p->dir, p->prefix, suffix);
-    return w > 0 && (size_t)w < len ? 0 : -1;
-}
-
 int chain_plots_write(const eom_system *s, int links, const char *csv_path,
                       char *err, size_t errlen)
 {
     csv_table *t = NULL;
     chain_shape *c = NULL;
     plot_job job;
-    place p;
+    plot_place p;
     char path[8192], name[2048], msg[1024], title[1100];
     int rc = -1, k, kg;
 
-    if (place_of(&p, csv_path, err, errlen) != 0)
+    if (plot_place_of(&p, csv_path, err, errlen) != 0)
         return -1;
     if (csv_table_read(&t, csv_path, msg, sizeof msg) != 0) {
         snprintf(err, errlen, "plots: reading '%s': %s", csv_path, msg);
@@ -113,12 +75,12 @@ int chain_plots_write(const eom_system *s, int links, const char *csv_path,
      * (dir and prefix are bounded), but say so if it ever does not */
     snprintf(title, sizeof title, "%.1000s: the deformed chain over time",
              p.csv_name);
-    if (path_of(&p, "animation.html", path, sizeof path) != 0)
+    if (plot_place_path(&p, "animation.html", path, sizeof path) != 0)
         goto too_long;
     if (chain_animation_write(path, c, t, title, job.exaggeration,
                               job.gravity, err, errlen) != 0)
         goto done;
-    if (path_of(&p, "snapshots.dat", path, sizeof path) != 0)
+    if (plot_place_path(&p, "snapshots.dat", path, sizeof path) != 0)
         goto too_long;
     if (chain_snapshots_dat(path, &job, err, errlen) != 0)
         goto done;
@@ -126,7 +88,7 @@ int chain_plots_write(const eom_system *s, int links, const char *csv_path,
         if (plots[k].closed_only && !c->closed)
             continue;
         snprintf(name, sizeof name, "%s.gp", plots[k].name);
-        if (path_of(&p, name, path, sizeof path) != 0)
+        if (plot_place_path(&p, name, path, sizeof path) != 0)
             goto too_long;
         if (chain_plot_script(path, plots[k].name, &job, err, errlen) != 0)
             goto done;

@@ -10,6 +10,7 @@
  * start (r = 1.1 m, theta = 0.5 rad, at rest) couples the stretching and
  * swinging motions, so energy moves between them in a non-trivial way. */
 #include "demos.h"
+#include "spring_plots.h"
 
 static int sp_kinetic(eom_ctx *c, void *user, tp_val *out)
 {
@@ -64,5 +65,5 @@ const demo demo_spring_pendulum = {
     .settings = NULL, /* no structural settings */
     .nsettings = 0,
     .build = sp_build,
-    .after_run = NULL,
+    .after_run = spring_plots_write,
 };
