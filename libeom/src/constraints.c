@@ -85,7 +85,7 @@ static int project(eom_system *s, double *x, double tol, int *iters,
                              "after %d iterations (tolerance %.3g); "
                              "C W^-1 C^T has reciprocal condition %.3g here%s",
                              res, it, tol, s->rcond_S,
-                             s->rcond_S < 1e-6
+                             s->rcond_S < 1e-3
                                  ? ": a (nearly) singular configuration"
                                  : "");
         if ((rc = eom__factor_S(s)) != EOM_OK)
