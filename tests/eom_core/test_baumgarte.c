@@ -49,7 +49,7 @@ static void run(eom_system *s, const core_chain *c, const double *x0,
                 double alpha, double beta, double *dev, double *phi_end,
                 double *max_res)
 {
-    double x[6], phi0[2], v0[2], phi[2], Cm[6];
+    double x[6], phi0[2], v0[2], phi[2] = {0.0, 0.0}, Cm[6];
     eom_opts o;
     eom_integ *it = NULL;
     eom_stats st;
