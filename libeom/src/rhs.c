@@ -26,13 +26,14 @@
 /* After a refactorization (fixed pivots) below this, factor afresh. */
 #define EOM_RCOND_REFACTOR 1e-6
 
-/* Below this size a Cholesky of our own replaces LAPACK's: bench-rhs
- * measures Debian's reference dpotrf + dpotrs at 3.6 times the cost of the
- * loops below for n = 2 (120 ns against 34 ns), a fifth of a small
- * system's whole right-hand side; the ratio falls with n, and LAPACK
- * keeps the rest. Both leave the factor in the same place and layout (the
- * lower triangle, column-major), so dpocon reads either. */
-#define EOM_SMALL_CHOLESKY 8
+/* Up to this size a Cholesky of our own replaces LAPACK's: bench-rhs
+ * measures Debian's reference dpotrf + dpotrs at 3.9 times the cost of the
+ * loops below for n = 2 (128 ns against 33 ns), 2.8 times for n = 10 and
+ * 2.2 times for n = 20: its call overhead dominates these sizes (a fifth
+ * of a small system's whole right-hand side). LAPACK keeps the larger
+ * ones. Both leave the factor in the same place and layout (the lower
+ * triangle, column-major), so dpocon reads either. */
+#define EOM_SMALL_CHOLESKY 16
 
 /* LAPACK's dpotrf for small n: info = j + 1 at a non-positive pivot. */
 static int small_potrf(int n, double *A)

@@ -40,6 +40,20 @@ static inline double tp__powi(double u, int k)
     return k < 0 ? 1.0 / r : r;
 }
 
+/* sin and cos of one angle in one libm call where the compiler offers it
+ * (compilers do not always merge separate sin and cos calls). */
+static inline double tp__sin_cos(double u, double *c)
+{
+#if defined(__GNUC__)
+    double s;
+    __builtin_sincos(u, &s, c);
+    return s;
+#else
+    *c = cos(u);
+    return sin(u);
+#endif
+}
+
 /* Value of a non-leaf op, and its auxiliary value in *aux. */
 static inline double tp__op_value_aux(int op, double u, double t, double c,
                                       double *aux)
@@ -74,11 +88,10 @@ static inline double tp__op_value_aux(int op, double u, double t, double c,
     case TP_OP_EXP: return exp(u);
     case TP_OP_LOG: return log(u);
     case TP_OP_SIN:
-        *aux = cos(u);
-        return sin(u);
+        return tp__sin_cos(u, aux);
     case TP_OP_COS:
-        *aux = sin(u);
-        return cos(u);
+        *aux = tp__sin_cos(u, &w);
+        return w;
     case TP_OP_TAN: return tan(u);
     case TP_OP_ASIN:
         *aux = 1.0 / sqrt(1.0 - u * u);

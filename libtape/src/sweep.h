@@ -27,17 +27,17 @@
 #define TP_VECTOR_CLONES
 #endif
 
+static inline int tp__lanes(int p)
+{
+    return (p + TP_LANES - 1) / TP_LANES * TP_LANES;
+}
+
 /* For small per-op bodies that must be inlined into a sweep loop. */
 #if defined(__GNUC__)
 #define TP_INLINE inline __attribute__((always_inline))
 #else
 #define TP_INLINE inline
 #endif
-
-static inline int tp__lanes(int p)
-{
-    return (p + TP_LANES - 1) / TP_LANES * TP_LANES;
-}
 
 /* a1 of a UINT op holds the exponent in two's complement. */
 static inline int tp__u2i(uint32_t t)
@@ -57,8 +57,8 @@ static inline double tp__op_c(const tp_tape *T, uint32_t i, unsigned op)
 
 /* Value of non-leaf op i (CONST included) from the values v of its
  * operands; stores its auxiliary value in aux[i] where it has one. */
-static inline double tp__value_at(const tp_tape *T, const double *v,
-                                  double *aux, uint32_t i, unsigned op)
+static TP_INLINE double tp__value_at(const tp_tape *T, const double *v,
+                                     double *aux, uint32_t i, unsigned op)
 {
     const uint32_t u = T->a0[i], t = T->a1[i];
     switch (op) {
