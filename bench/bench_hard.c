@@ -145,8 +145,15 @@ static void row(const char *name, const char *method, const outcome *o,
         printf("%.1e |", err);
     else
         printf(" |");
-    if (o->status != EOM_OK)
-        printf(" %s", o->msg);
+    if (o->status != EOM_OK) { /* a message may hold |phi|: escape it */
+        const char *c;
+        putchar(' ');
+        for (c = o->msg; *c; c++) {
+            if (*c == '|')
+                putchar('\\');
+            putchar(*c);
+        }
+    }
     printf("\n");
     fflush(stdout);
 }
