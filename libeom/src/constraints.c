@@ -9,7 +9,15 @@
  * coordinates, right for an initial state a user set off the
  * constraints: M couples angles and deflections, so the M-norm would move
  * deflections the constraints do not involve). W is factored once, at
- * the state given; C and S are recomputed at each iterate. */
+ * the state given; C and S are recomputed at each iterate.
+ *
+ * Every projection first measures phi and C qd (one Taylor sweep) and
+ * does nothing more when both are within the tolerance. An integrator's
+ * projection after each step (eom__project_step) reuses the factor of M
+ * from the step's last evaluation, at a nearby state: the correction
+ * needs a metric close to M, not M at the corrected point, and this keeps
+ * the cost of a step's projection that has work to do at a few small
+ * solves. */
 #include <math.h>
 #include <string.h>
 
@@ -39,9 +47,11 @@ static int correct(eom_system *s, double *v, double *r)
     return EOM_OK;
 }
 
-/* The projection with W = M (by_mass) or W = I, factored into s->Mf. */
+enum metric { METRIC_MASS, METRIC_LAST_MASS, METRIC_IDENTITY };
+
+/* The projection with W = M at x, the M factored last, or I. */
 static int project(eom_system *s, double *x, double tol, int *iters,
-                   bool by_mass, const char *fn)
+                   enum metric metric, const char *fn)
 {
     const int n = s ? s->n : 0, m = s ? s->m : 0;
     int it = 0, rc, st, i, j;
@@ -59,17 +69,25 @@ static int project(eom_system *s, double *x, double tol, int *iters,
         return EOM_OK;
     if (!eom__finite(x, 2 * (size_t)n))
         return eom__fail(s, EOM_ERR_NONFINITE, "the state is not finite");
-    if (by_mass) {
+    /* nothing to do when phi and C qd are within the tolerance */
+    st = tp_taylor2(s->tphi.ws, x, x + n, s->phi, s->phid, s->gam);
+    if ((rc = eom__tape_status(s, st, "the constraint residuals")))
+        return rc;
+    if (maxabs(s->phi, m) <= tol && maxabs(s->phid, m) <= tol)
+        return EOM_OK;
+    if (metric == METRIC_MASS ||
+        (metric == METRIC_LAST_MASS && !s->mf_valid)) {
         st = tp_lagrange(s->tL.ws, x, 0, NULL, NULL, s->M, NULL);
         if ((rc = eom__tape_status(s, st, "the mass matrix")))
             return rc;
         if ((rc = eom__factor_mass(s)) != EOM_OK)
             return rc;
-    } else {
+    } else if (metric == METRIC_IDENTITY) {
         /* the Cholesky factor of I is I */
         memset(s->Mf, 0, (size_t)n * (size_t)n * sizeof(double));
         for (i = 0; i < n; i++)
             s->Mf[(size_t)i * (size_t)n + (size_t)i] = 1.0;
+        s->mf_valid = false; /* no longer M's factor */
     }
     for (;;) {
         if ((rc = eom__constraints_at(s, x)) != EOM_OK)
@@ -116,10 +134,15 @@ static int project(eom_system *s, double *x, double tol, int *iters,
 
 int eom_project(eom_system *s, double *x, double tol, int *iters)
 {
-    return project(s, x, tol, iters, true, "eom_project");
+    return project(s, x, tol, iters, METRIC_MASS, "eom_project");
 }
 
 int eom_project_start(eom_system *s, double *x, double tol, int *iters)
 {
-    return project(s, x, tol, iters, false, "eom_project_start");
+    return project(s, x, tol, iters, METRIC_IDENTITY, "eom_project_start");
+}
+
+int eom__project_step(eom_system *s, double *x, double tol, int *iters)
+{
+    return project(s, x, tol, iters, METRIC_LAST_MASS, "projection");
 }

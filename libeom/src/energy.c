@@ -35,23 +35,10 @@ int eom_energy_at(eom_system *s, double t, const double *x, eom_energy *e)
         e->T = s->wE[0];
         e->V = s->wE[1];
     }
-    e->P = 0.0;
-    if (s->has_R) {
-        st = tp_gradient(s->tR.ws, x, 0, NULL, s->gR);
-        if ((rc = eom__tape_status(s, st, "the gradient of the dissipation")))
-            return rc;
-        for (i = 0; i < n; i++)
-            e->P -= x[n + i] * s->gR[n + i];
-    }
-    if (s->has_Q) {
-        memcpy(s->xq, x, 2 * (size_t)n * sizeof(double));
-        s->xq[2 * n] = t;
-        st = tp_eval(s->tQ.ws, s->xq, s->Qv);
-        if ((rc = eom__tape_status(s, st, "a generalized force")))
-            return rc;
-        for (i = 0; i < n; i++)
-            e->P += x[n + i] * s->Qv[i];
-    }
+    /* after the Lagrangian's gradient: this reuses the scratch s->wn */
+    if ((rc = eom__nonconservative(s, t, x)) != EOM_OK)
+        return rc;
+    e->P = s->power;
     return EOM_OK;
 }
 

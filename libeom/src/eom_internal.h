@@ -108,12 +108,13 @@ struct eom_system {
     /* results of the last evaluation (rhs.c) */
     double *M;     /* n x n mass matrix */
     double *Mf;    /* n x n Cholesky factor (lower) */
+    bool mf_valid; /* Mf holds the factor of a mass matrix */
     double *g;     /* n  dL/dq */
     double *h;     /* n  (d2L/dqd dq) qd */
     double *F;     /* n  g - h - dR/dqd + Q */
     double *qdd;   /* n */
     double *gR;    /* 2n gradient of R */
-    double *Qv;    /* n  user forces */
+    double *Qv;    /* n  non-conservative forces -dR/dqd + Q */
     double *xq;    /* 2n + 1: (q, qd, t) for the Q tape */
     double *C;     /* m x n */
     double *phi;   /* m */
@@ -124,7 +125,7 @@ struct eom_system {
     double *lam;   /* m */
     double *wn, *wm; /* scratch n and m */
     double *wE;      /* scratch for energy tape outputs */
-    double power;  /* qd . (-dR/dqd + Q) at the last evaluation */
+    double power;  /* qd . Qv at the last evaluation */
 
     /* KLU for S: dense pattern in compressed columns, analyzed once */
     int *Sp, *Si;
@@ -135,11 +136,17 @@ struct eom_system {
     double rcond_S;   /* KLU's estimate at the last factorization */
 };
 
+/* rhs.c: the non-conservative generalized forces at (t, x), -dR/dqd + Q,
+ * into s->Qv, and their power qd . Qv into s->power (uses s->wn). */
+int eom__nonconservative(eom_system *s, double t, const double *x);
 /* rhs.c: evaluate everything the right-hand side needs at (t, x) and
  * solve; leaves M, Mf, F, C, lam, qdd, power in s. */
 int eom__evaluate(eom_system *s, double t, const double *x);
 /* Factor s->M into s->Mf (Cholesky); EOM_ERR_SINGULAR_MASS on failure. */
 int eom__factor_mass(eom_system *s);
+/* Projection after an integrator's step: as eom_project, with the factor
+ * of M from the last evaluation when there is one (constraints.c). */
+int eom__project_step(eom_system *s, double *x, double tol, int *iters);
 /* Solve Mf Mf^T X = B in place, B n x nrhs column-major (a column is n
  * contiguous values). */
 int eom__mass_solve(eom_system *s, double *B, int nrhs);

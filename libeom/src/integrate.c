@@ -78,7 +78,7 @@ int eom__integ_project(eom_integ *it, double *y)
     if (s->m == 0)
         return EOM_OK;
     if (it->o.project) {
-        rc = eom_project(s, y, it->o.proj_tol, &iters);
+        rc = eom__project_step(s, y, it->o.proj_tol, &iters);
         if (rc != EOM_OK) {
             snprintf(it->msg, sizeof it->msg, "at t = %.17g: %s", it->t,
                      s->msg);

@@ -85,6 +85,7 @@ int eom__factor_mass(eom_system *s)
         info = small_potrf(n, s->Mf);
     else
         dpotrf_("L", &n, s->Mf, &n, &info, 1);
+    s->mf_valid = info == 0;
     if (info > 0)
         return eom__fail(s, EOM_ERR_SINGULAR_MASS,
                          "the mass matrix is not positive definite (its "
@@ -199,6 +200,32 @@ static double dot(const double *a, const double *b, int n)
     return sum;
 }
 
+int eom__nonconservative(eom_system *s, double t, const double *x)
+{
+    const int n = s->n;
+    int i, st, rc;
+    memset(s->Qv, 0, (size_t)n * sizeof(double));
+    s->power = 0.0;
+    if (s->has_R) {
+        st = tp_gradient(s->tR.ws, x, 0, NULL, s->gR);
+        if ((rc = eom__tape_status(s, st, "the gradient of the dissipation")))
+            return rc;
+        for (i = 0; i < n; i++)
+            s->Qv[i] = -s->gR[n + i];
+    }
+    if (s->has_Q) {
+        memcpy(s->xq, x, 2 * (size_t)n * sizeof(double));
+        s->xq[2 * n] = t;
+        st = tp_eval(s->tQ.ws, s->xq, s->wn);
+        if ((rc = eom__tape_status(s, st, "a generalized force")))
+            return rc;
+        for (i = 0; i < n; i++)
+            s->Qv[i] += s->wn[i];
+    }
+    s->power = dot(x + n, s->Qv, n);
+    return EOM_OK;
+}
+
 int eom__evaluate(eom_system *s, double t, const double *x)
 {
     const int n = s->n, m = s->m;
@@ -213,25 +240,10 @@ int eom__evaluate(eom_system *s, double t, const double *x)
         return rc;
     for (i = 0; i < n; i++)
         s->F[i] = s->g[i] - s->h[i];
-    s->power = 0.0;
-    if (s->has_R) {
-        st = tp_gradient(s->tR.ws, x, 0, NULL, s->gR);
-        if ((rc = eom__tape_status(s, st, "the gradient of the dissipation")))
-            return rc;
-        for (i = 0; i < n; i++)
-            s->F[i] -= s->gR[n + i];
-        s->power -= dot(qd, s->gR + n, n);
-    }
-    if (s->has_Q) {
-        memcpy(s->xq, x, 2 * (size_t)n * sizeof(double));
-        s->xq[2 * n] = t;
-        st = tp_eval(s->tQ.ws, s->xq, s->Qv);
-        if ((rc = eom__tape_status(s, st, "a generalized force")))
-            return rc;
-        for (i = 0; i < n; i++)
-            s->F[i] += s->Qv[i];
-        s->power += dot(qd, s->Qv, n);
-    }
+    if ((rc = eom__nonconservative(s, t, x)) != EOM_OK)
+        return rc;
+    for (i = 0; i < n; i++)
+        s->F[i] += s->Qv[i];
     if ((rc = eom__factor_mass(s)) != EOM_OK)
         return rc;
     memcpy(s->qdd, s->F, (size_t)n * sizeof(double));

@@ -252,8 +252,11 @@ EOM_API int eom_probes_at(eom_system *s, const double *x, double *p);
 
 /* Project x onto phi(q) = 0 and C qd = 0 with the minimum M-norm
  * correction (Newton iteration on q, until max |phi| <= tol; then one
- * linear correction of qd). *iters (may be NULL) receives the number of
- * iterations. EOM_ERR_PROJECTION if it does not converge in 20. */
+ * linear correction of qd). A state with max |phi| <= tol and max |C qd|
+ * <= tol is left as it is. *iters (may be NULL) receives the number of
+ * iterations. EOM_ERR_PROJECTION if it does not converge in 20. During
+ * integration the projection after each step uses the factor of M from
+ * the step's last evaluation instead of factoring M again. */
 EOM_API int eom_project(eom_system *s, double *x, double tol, int *iters);
 /* The same with the correction of least Euclidean norm in q and in qd:
  * the smallest change of the coordinates, for an initial state set off
