@@ -27,10 +27,10 @@
 #define EOM_RCOND_REFACTOR 1e-6
 
 /* Up to this size a Cholesky of our own replaces LAPACK's: bench-rhs
- * measures Debian's reference dpotrf + dpotrs at 3.9 times the cost of the
- * loops below for n = 2 (128 ns against 33 ns), 2.8 times for n = 10 and
- * 2.2 times for n = 20: its call overhead dominates these sizes (a fifth
- * of a small system's whole right-hand side). LAPACK keeps the larger
+ * measures Debian's reference dpotrf + dpotrs at 3.8 times the cost of the
+ * loops below for n = 2 (123 ns against 32 ns), 2.7 times for n = 10 and
+ * 2.2 times for n = 20 (docs/benchmarks.md): its call overhead dominates
+ * these sizes (a fifth of a small system's whole right-hand side). LAPACK keeps the larger
  * ones. Both leave the factor in the same place and layout (the lower
  * triangle, column-major), so dpocon reads either. */
 #define EOM_SMALL_CHOLESKY 16
