@@ -77,8 +77,10 @@ static int project(eom_system *s, double *x, double tol, int *iters,
         return EOM_OK;
     if (metric == METRIC_MASS ||
         (metric == METRIC_LAST_MASS && !s->mf_valid)) {
-        st = tp_lagrange(s->tL.ws, x, 0, NULL, NULL, s->M, NULL);
-        if ((rc = eom__tape_status(s, st, "the mass matrix")))
+        double L;
+        st = tp_lagrange(s->tL.ws, x, 0, &L, NULL, s->M, NULL);
+        if ((rc = eom__tape_status(s, st,
+                                   "the Lagrangian or the mass matrix")))
             return rc;
         if ((rc = eom__factor_mass(s)) != EOM_OK)
             return rc;

@@ -318,13 +318,14 @@ static int linearize(eom_system *s, const double *q, eom_linear *lin,
 {
     const int n = s->n, m = s->m;
     int rc, st, i, j, rank = 0;
+    double L;
 
     memcpy(w->x, q, (size_t)n * sizeof(double));
     st = tp_hessian_cols(s->tL.ws, w->x, 0, 0, n, w->g, w->H);
     if ((rc = eom__tape_status(s, st, "the Hessian of the Lagrangian")))
         return rc;
-    st = tp_lagrange(s->tL.ws, w->x, 0, NULL, NULL, lin->M, NULL);
-    if ((rc = eom__tape_status(s, st, "the mass matrix")))
+    st = tp_lagrange(s->tL.ws, w->x, 0, &L, NULL, lin->M, NULL);
+    if ((rc = eom__tape_status(s, st, "the Lagrangian or the mass matrix")))
         return rc;
     symmetrize(lin->M, n);
     if (m > 0) {

@@ -231,12 +231,16 @@ int eom__evaluate(eom_system *s, double t, const double *x)
     const int n = s->n, m = s->m;
     const double *qd = x + n;
     int i, j, st, rc;
+    double L;
 
     if (!isfinite(t) || !eom__finite(x, 2 * (size_t)n))
         return eom__fail(s, EOM_ERR_NONFINITE,
                          "the state at t = %g is not finite", t);
-    st = tp_lagrange(s->tL.ws, x, 0, NULL, s->g, s->M, s->h);
-    if ((rc = eom__tape_status(s, st, "a derivative of the Lagrangian")))
+    /* L itself is asked for (the forward sweep computes it anyway) so
+     * that a state outside the model's domain is an error even where the
+     * derivatives happen to stay finite */
+    st = tp_lagrange(s->tL.ws, x, 0, &L, s->g, s->M, s->h);
+    if ((rc = eom__tape_status(s, st, "the Lagrangian or a derivative")))
         return rc;
     for (i = 0; i < n; i++)
         s->F[i] = s->g[i] - s->h[i];
@@ -295,6 +299,7 @@ int eom_rhs(eom_system *s, double t, const double *x, double *xd)
 int eom_mass_matrix(eom_system *s, const double *x, double *M)
 {
     int st;
+    double L;
     if (!s)
         return EOM_ERR_NULL;
     s->msg[0] = '\0';
@@ -302,8 +307,8 @@ int eom_mass_matrix(eom_system *s, const double *x, double *M)
         return eom__fail(s, EOM_ERR_NULL, "eom_mass_matrix: NULL argument");
     if (!eom__finite(x, 2 * (size_t)s->n))
         return eom__fail(s, EOM_ERR_NONFINITE, "the state is not finite");
-    st = tp_lagrange(s->tL.ws, x, 0, NULL, NULL, M, NULL);
-    return eom__tape_status(s, st, "the mass matrix");
+    st = tp_lagrange(s->tL.ws, x, 0, &L, NULL, M, NULL);
+    return eom__tape_status(s, st, "the Lagrangian or the mass matrix");
 }
 
 int eom_constraint_jacobian(eom_system *s, const double *x, double *C,

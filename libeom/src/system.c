@@ -149,8 +149,13 @@ static int body_R(eom_ctx *c)
 
 /* A vector callback fills count values, declared as outputs prefix<k>
  * from number first + 1 on. */
+/* Record a vector callback's count values as outputs prefix1, prefix2,
+ * ... With zero_fill the entries start as the constant 0, so a callback
+ * sets only its nonzero entries (forces); otherwise an entry left unset is
+ * an error (a constraint forgotten is a bug, not a zero). */
 static int body_vector(eom_ctx *c, const eom_callback *cb, int count,
-                       int first, const char *what, const char *prefix)
+                       int first, const char *what, const char *prefix,
+                       int zero_fill)
 {
     tp_val *v = malloc((size_t)count * sizeof *v);
     char name[32];
@@ -161,7 +166,7 @@ static int body_vector(eom_ctx *c, const eom_callback *cb, int count,
         return 1;
     }
     for (k = 0; k < count; k++)
-        v[k] = no_val;
+        v[k] = zero_fill ? tp_const(c->r, 0.0) : no_val;
     rc = cb->fn.vector(c, cb->user, v);
     if (rc != 0 && c->status == EOM_OK) {
         c->status = EOM_ERR_RECORD;
@@ -186,7 +191,7 @@ static int body_vector(eom_ctx *c, const eom_callback *cb, int count,
 
 static int body_Q(eom_ctx *c)
 {
-    return body_vector(c, &c->m->Q, c->n, 0, "force", "Q");
+    return body_vector(c, &c->m->Q, c->n, 0, "force", "Q", 1);
 }
 
 /* The constraint blocks, stacked in the order they were added. */
@@ -196,7 +201,7 @@ static int body_phi(eom_ctx *c)
     int k, first = 0;
     for (k = 0; k < list->n; k++) {
         if (body_vector(c, &list->v[k], list->v[k].count, first,
-                        "constraint", "phi"))
+                        "constraint", "phi", 0))
             return 1;
         first += list->v[k].count;
     }
@@ -208,7 +213,7 @@ int eom_model_run_lagrangian(const eom_model *m, tp_rec *r, const double *x)
     eom_ctx c;
     rec_arg arg;
     int rc;
-    if (!m || !r || !x)
+    if (!m || !r)
         return EOM_ERR_NULL;
     if (m->status != EOM_OK)
         return m->status;
@@ -223,11 +228,14 @@ int eom_model_run_lagrangian(const eom_model *m, tp_rec *r, const double *x)
     c.n = m->n_coords;
     arg.c = &c;
     arg.body = body_L;
+    /* x may be NULL for the recorder; the evaluators refuse it */
     rc = tp_rec_run(r, x, run_body, &arg);
     if (c.status != EOM_OK)
         return c.status;
     if (rc == TP_ERR_NOMEM)
         return EOM_ERR_NOMEM;
+    if (rc == TP_ERR_NULL)
+        return EOM_ERR_NULL;
     return rc < 0 ? EOM_ERR_RECORD : EOM_OK;
 }
 

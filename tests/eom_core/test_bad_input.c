@@ -151,7 +151,8 @@ static int bad_phi(eom_ctx *c, void *user, tp_val *out)
 static int bad_forces(eom_ctx *c, void *user, tp_val *out)
 {
     (void)user;
-    out[0] = eom_time(c); /* allowed here; out[1] is left unset */
+    out[0] = eom_time(c);             /* allowed here */
+    out[1] = eom_param(c, "nosuch"); /* out[2..] may stay unset (0) */
     return 0;
 }
 
@@ -367,9 +368,9 @@ static void recording_errors(void)
         expect_fail(md, EOM_ERR_RECORD, phi_says[i]);
     }
     /* the same mistakes in the other callbacks */
-    md = unit_model(2);
+    md = unit_model(3);
     eom_model_set_forces(md, bad_forces, NULL);
-    expect_fail(md, EOM_ERR_RECORD, "force callback did not set value 2");
+    expect_fail(md, EOM_ERR_RECORD, "'nosuch'");
     md = unit_model(1);
     eom_model_set_dissipation(md, bad_scalar, &kinds[0]);
     expect_fail(md, EOM_ERR_RECORD, "'nosuch'");

@@ -118,7 +118,9 @@ EOM_API int eom_model_set_dissipation(eom_model *m, eom_scalar_fn R,
                                       void *user);
 EOM_API int eom_model_add_dissipation(eom_model *m, eom_scalar_fn R,
                                       void *user);
-/* Generalized forces Q(q, qd, t): n values (eom_time is available). */
+/* Generalized forces Q(q, qd, t): n values (eom_time is available). The
+ * n outputs start as the constant 0: the callback sets only the nonzero
+ * entries. */
 EOM_API int eom_model_set_forces(eom_model *m, eom_vector_fn Q, void *user);
 /* Holonomic constraints phi(q) = 0: count values of q only (reading qd
  * or the time in this callback is an error). set_ makes phi the only
@@ -216,7 +218,8 @@ EOM_API int eom_set_baumgarte(eom_system *s, double alpha, double beta);
 /* The right-hand side: xd = (qd, qdd) at time t and state x (2n). Any of
  * the results of the same evaluation may then be read with the accessors
  * below at no extra cost. Errors: EOM_ERR_NONFINITE (non-finite x or
- * result), EOM_ERR_SINGULAR_MASS, EOM_ERR_RANK_DEFICIENT. */
+ * result, or a Lagrangian that is NaN or infinite at x: a state outside
+ * the model's domain), EOM_ERR_SINGULAR_MASS, EOM_ERR_RANK_DEFICIENT. */
 EOM_API int eom_rhs(eom_system *s, double t, const double *x, double *xd);
 
 /* Quantities at a state; each evaluates what it needs. */
