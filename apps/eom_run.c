@@ -393,6 +393,7 @@ static int run(cli *c)
     }
     if (c->modes) {
         /* the demo's rest guess, unless the user placed the coordinates */
+        const char *origin = "the initial state";
         int placed = 0, k;
         for (k = 0; k < c->nsets; k++) {
             char name[128];
@@ -400,10 +401,11 @@ static int run(cli *c)
                      c->sets[k].arg);
             placed |= eom_coord_index(s, name) >= 0;
         }
-        if (!placed && d->rest_guess)
-            d->rest_guess(settings, s, x0);
-        status = modes_report(stdout, s, x0, d->name) == 0 ? EXIT_SUCCESS
-                                                           : EXIT_RUN;
+        if (!placed && d->rest_guess && d->rest_guess(settings, s, x0) == 0)
+            origin = "the demo's rest guess";
+        status = modes_report(stdout, s, x0, d->name, origin) == 0
+                     ? EXIT_SUCCESS
+                     : EXIT_RUN;
         goto done;
     }
     if (start_state_prepare(s, x0, &c->opts, d->name) != 0)

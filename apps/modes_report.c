@@ -71,7 +71,7 @@ static void print_frequencies(FILE *f, const eom_linear *lin)
 }
 
 int modes_report(FILE *f, eom_system *s, const double *x0,
-                 const char *label)
+                 const char *label, const char *origin)
 {
     const int n = eom_system_ncoords(s);
     double *q = malloc((size_t)n * sizeof(double) + 1);
@@ -85,8 +85,8 @@ int modes_report(FILE *f, eom_system *s, const double *x0,
     memcpy(q, x0, (size_t)n * sizeof(double));
     rc = eom_equilibrium(s, q, MODES_EQ_TOL, &iters);
     if (rc != EOM_OK) {
-        fprintf(stderr, "eom-run: %s: no static equilibrium found from the "
-                "initial state: %s\n", label, eom_system_errmsg(s));
+        fprintf(stderr, "eom-run: %s: no static equilibrium found from %s: "
+                "%s\n", label, origin, eom_system_errmsg(s));
         free(q);
         return 1;
     }
@@ -97,10 +97,10 @@ int modes_report(FILE *f, eom_system *s, const double *x0,
         free(q);
         return 1;
     }
-    fprintf(f, "%s: static equilibrium found from the initial state in %d "
-            "Newton step%s\n(tolerance %g on the unbalanced generalized "
-            "forces and on |phi|; gravity and\nsprings only: dampers do "
-            "not act at rest)\n\n", label, iters, iters == 1 ? "" : "s",
+    fprintf(f, "%s: static equilibrium found from %s in %d Newton step%s\n"
+            "(tolerance %g on the unbalanced generalized forces and on "
+            "|phi|; gravity and\nsprings only: dampers do not act at "
+            "rest)\n\n", label, origin, iters, iters == 1 ? "" : "s",
             MODES_EQ_TOL);
     print_coords(f, s, q);
     fputc('\n', f);

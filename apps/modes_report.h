@@ -22,9 +22,10 @@
 
 /* Start from the coordinates of x0 (2n values; the rates are not used),
  * find the equilibrium of s and print it and the frequencies on f. label
- * names the demo in messages. Returns 0, or 1 after a message on standard
+ * names the demo in messages, origin where x0 came from ("the initial
+ * state", "the demo's rest guess"). Returns 0, or 1 after a message on standard
  * error (no equilibrium found, or the linearization failed). */
 int modes_report(FILE *f, eom_system *s, const double *x0,
-                 const char *label);
+                 const char *label, const char *origin);
 
 #endif /* APPS_MODES_REPORT_H */
