@@ -50,10 +50,14 @@ static const int ws_dirs[NW] = {1, 3, NI};
 
 /* Operand shapes: both operands on both groups; u on group 0 and t on
  * group 1 (a unary op then reads a group-1 operand); one operand a bare
- * parameter, i.e. passive (binary ops only). */
-enum shape { SH_MIXED, SH_SPLIT, SH_UPARAM, SH_TPARAM, SH_COUNT };
+ * parameter, i.e. passive (binary ops only); both operands the same slot
+ * (binary ops only: op(u, u), which hash-consing produces whenever a
+ * model writes the same expression twice; a sweep that treats the two
+ * operands as distinct values gets its second derivatives wrong). */
+enum shape { SH_MIXED, SH_SPLIT, SH_UPARAM, SH_TPARAM, SH_ALIAS, SH_COUNT };
 static const char *const shape_name[SH_COUNT] = {"mixed", "split",
-                                                 "u-param", "t-param"};
+                                                 "u-param", "t-param",
+                                                 "alias"};
 
 /* Constants for UCONST ops and exponents for UINT ops; the special values
  * (0, 1, -1, 2) also reach the recorder's rewrites. */
@@ -155,6 +159,10 @@ static int conf_record(tp_rec *r, void *user)
     case SH_TPARAM:
         u = tp_add(r, pu, rec_g1(r, x));
         t = pt;
+        break;
+    case SH_ALIAS:
+        u = tp_add(r, pu, rec_g1(r, x));
+        t = u;
         break;
     default:
         u = tp_add(r, pu, rec_g1(r, x));
@@ -508,6 +516,18 @@ static void run_case(conf_case *cc, tp_rec *ev, tp_rec *tu,
         case SH_TPARAM:
             pu = u - g1(x);
             pt = t;
+            break;
+        case SH_ALIAS:
+            /* one value a for both operands, in every alias domain
+             * (nonzero, and positive for a base) and not small: ops such
+             * as a/a and atan2(a, a) are constant, so their derivatives
+             * are sums of terms of size 1/a that cancel, and rounding in
+             * them must stay below the checks' tolerances */
+            u = t = (dom == TP_DOM_UPOS || k % 2 == 0 ? 1.0 : -1.0) *
+                    rng_range(g, 0.5, 2.0);
+            dist = 0.5;
+            pu = u - g1(x);
+            pt = 0.5;
             break;
         default:
             pu = u - g1(x);
