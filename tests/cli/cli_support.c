@@ -6,6 +6,7 @@
 #include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -165,6 +166,18 @@ void run(result *r, const char *const *args)
 int has(const char *s, const char *word)
 {
     return s && strstr(s, word) != NULL;
+}
+
+double number_after(const char *s, const char *label)
+{
+    const char *p = s ? strstr(s, label) : NULL;
+    char *end;
+    double v;
+    if (!p)
+        return NAN;
+    p += strlen(label);
+    v = strtod(p, &end);
+    return end == p ? NAN : v;
 }
 
 int csv_parse(const char *text, csv *c, char *msg, size_t msglen)

@@ -51,6 +51,22 @@ int has(const char *s, const char *word);
                         (s) ? (s) : "(null)");                             \
     } while (0)
 
+/* The number that follows the first occurrence of label in s (for the
+ * figures of the end-of-run summary); NaN if label is missing or no
+ * number follows. */
+double number_after(const char *s, const char *label);
+
+/* a and b agree to rel relative to |b| (for figures printed with a few
+ * significant digits). */
+#define CHECK_REL(a, b, rel)                                               \
+    do {                                                                   \
+        double a_ = (a), b_ = (b);                                         \
+        check_count_++;                                                    \
+        if (!(fabs(a_ - b_) <= (rel) * fabs(b_)))                          \
+            CHECK_FAIL_("%s ~ %s failed: %.17g vs %.17g (relative %g)",    \
+                        #a, #b, a_, b_, (double)(rel));                    \
+    } while (0)
+
 /* A CSV of numbers after one header row. */
 typedef struct csv {
     char header[8192];

@@ -347,6 +347,41 @@ static void case_csv(void)
     free(c.v);
     result_free(&r);
 
+    /* the same run with its summary: each figure against the CSV's rows
+     * (energy drift, |C qd|), the counts (rk4: four right-hand sides a
+     * step, 0.2 s / 1e-3) and the projection's tolerance (|phi| after a
+     * step, which no row shows, is at most 1e-12) */
+    {
+        const char *loud[] = {"closed-chain", "--t-end", "0.2", "--sample",
+                              "0.05", "--out", path, NULL};
+        double drift = 0.0, phi = 0.0, phid = 0.0, summ;
+        int i, cE, cW, cp, cd;
+        CHECK_INT(run_csv(&c, loud, &r), 0);
+        cE = csv_col(&c, "E");
+        cW = csv_col(&c, "W");
+        cp = csv_col(&c, "phi1");
+        cd = csv_col(&c, "phidot1");
+        CHECK(cE > 0 && cW > 0 && cp > 0 && cd > 0);
+        for (i = 0; i < c.nrows && cE > 0 && cW > 0 && cp > 0 && cd > 0;
+             i++) {
+            drift = fmax(drift, fabs(at(&c, i, cE) + at(&c, i, cW) -
+                                     at(&c, 0, cE)));
+            phi = fmax(phi, fmax(fabs(at(&c, i, cp)), fabs(at(&c, i, cp + 1))));
+            phid = fmax(phid,
+                        fmax(fabs(at(&c, i, cd)), fabs(at(&c, i, cd + 1))));
+        }
+        CHECK_INT(number_after(r.err, "with rk4: "), 5);
+        CHECK_INT(number_after(r.err, "steps "), 200);
+        CHECK_INT(number_after(r.err, "right-hand sides "), 800);
+        CHECK(drift > 0.0 && phid > 0.0);
+        CHECK_REL(number_after(r.err, "max |E + W - E0| = "), drift, 5e-3);
+        CHECK_REL(number_after(r.err, "max |C qd| = "), phid, 5e-3);
+        summ = number_after(r.err, "max |phi| = ");
+        CHECK(summ >= phi * (1.0 - 5e-3) && summ <= 1e-12);
+        free(c.v);
+        result_free(&r);
+    }
+
     CHECK_INT(run_csv(&c, open_args, &r), 0);
     chain_header(want, sizeof want, 3, 1, 0);
     check_count_++;
