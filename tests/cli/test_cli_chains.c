@@ -697,6 +697,8 @@ static void case_modes(void)
                              "--set", "modes=2", "--set", "g=0", "--set",
                              "EI1=1e5", "--set", "m1=2", NULL};
     const char *open_args[] = {"open-chain", "--modes", NULL};
+    const char *one_beam[] = {"open-chain", "--modes", "--set", "links=1",
+                              "--set", "modes=2", NULL};
     const char *far[] = {"closed-chain", "--modes", "--set", "D=60", NULL};
     char path[300];
     const char *with_out[] = {"spring-pendulum", "--modes", "--out", path,
@@ -756,6 +758,32 @@ static void case_modes(void)
     for (i = 0; i < n && i < 2; i++)
         CHECK_NEAR(w[i], pow((i + 1) * pi / 10.0, 2) * sqrt(1e5 / 0.2),
                    1e-6);
+    result_free(&r);
+
+    /* one free beam pinned at the origin, two modes, no gravity: at rest
+     * T = 1/2 (M_rr thd^2 + 2 thd sum_i M_ri qd_i + m/2 sum_i qd_i^2) with
+     * M_rr = m L^2 / 3 and M_ri = int rho x sin(i pi x / L) dx =
+     * m L (-1)^(i+1) / (i pi); V = sum_i EI (i pi / L)^4 L / 4 q_i^2.
+     * The rotation is free (omega 0); condensing it out leaves
+     * det(K - w^2 (m/2 I - 3 m a a')) = 0 with a_i = (-1)^(i+1) / (i pi),
+     * a quadratic in w^2. */
+    run(&r, one_beam);
+    CHECK_INT(r.status, 0);
+    n = parse_modes(r.out, w, f, 16);
+    CHECK_INT(n, 3);
+    if (n == 3) {
+        const double m = 1.0, L = 10.0, EI = 4e3;
+        const double a0 = 1.0 / pi, a1 = -1.0 / (2.0 * pi);
+        const double M00 = m / 2 - 3 * m * a0 * a0, M11 = m / 2 - 3 * m * a1 * a1;
+        const double M01 = -3 * m * a0 * a1;
+        const double k0 = EI * pow(pi / L, 4) * L / 2;
+        const double k1 = EI * pow(2 * pi / L, 4) * L / 2;
+        const double A = M00 * M11 - M01 * M01, B = -(k0 * M11 + k1 * M00);
+        const double D = sqrt(B * B - 4 * A * k0 * k1);
+        CHECK(fabs(w[0]) < 1e-6);
+        CHECK_NEAR(w[1], sqrt((-B - D) / (2 * A)), 1e-9);
+        CHECK_NEAR(w[2], sqrt((-B + D) / (2 * A)), 1e-9);
+    }
     result_free(&r);
 
     /* no gravity, no springs: the three rigid rotations are neutral */
