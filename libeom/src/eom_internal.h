@@ -134,6 +134,16 @@ struct eom_system {
     klu_symbolic *ksym;
     klu_numeric *knum;
     double rcond_S;   /* KLU's estimate at the last factorization */
+
+    /* S's filtered pseudo-inverse where KLU's factor is too poorly
+     * conditioned (redundant constraints, near a singular configuration):
+     * S = U diag(sv) V^T, m x m column-major (rhs.c, EOM_PINV_MU). Work
+     * arrays allocated with the KLU ones. */
+    bool S_pinv;      /* the last factorization is the pseudo-inverse */
+    int S_rank;       /* directions it keeps */
+    double S_mu;      /* its filter parameter */
+    double *Sa, *Su, *Svt, *Ssv, *Swork;
+    int Slwork;
 };
 
 /* rhs.c: the non-conservative generalized forces at (t, x), -dR/dqd + Q,

@@ -332,6 +332,11 @@ void eom_system_free(eom_system **sp)
         klu_free_numeric(&s->knum, &s->kc);
     if (s->ksym)
         klu_free_symbolic(&s->ksym, &s->kc);
+    free(s->Sa);
+    free(s->Su);
+    free(s->Svt);
+    free(s->Ssv);
+    free(s->Swork);
     free(s->pval);
     free(s->M);
     free(s->Mf);
@@ -419,8 +424,24 @@ static int setup_klu(eom_system *s)
     s->Sp = malloc((size_t)(m + 1) * sizeof(int));
     s->Si = malloc((size_t)m * (size_t)m * sizeof(int));
     s->Sx = malloc((size_t)m * (size_t)m * sizeof(double));
-    if (!s->Sp || !s->Si || !s->Sx)
+    /* the pseudo-inverse's arrays, with dgesvd's workspace queried now so
+     * that no evaluation allocates */
+    s->Sa = malloc((size_t)m * (size_t)m * sizeof(double));
+    s->Su = malloc((size_t)m * (size_t)m * sizeof(double));
+    s->Svt = malloc((size_t)m * (size_t)m * sizeof(double));
+    s->Ssv = malloc((size_t)m * sizeof(double));
+    if (!s->Sp || !s->Si || !s->Sx || !s->Sa || !s->Su || !s->Svt || !s->Ssv)
         return eom__fail(s, EOM_ERR_NOMEM, "out of memory");
+    {
+        double query = 0.0;
+        int lwork = -1, info = 0;
+        dgesvd_("A", "A", &m, &m, s->Sa, &m, s->Ssv, s->Su, &m, s->Svt, &m,
+                &query, &lwork, &info, 1, 1);
+        s->Slwork = info == 0 && query >= 1.0 ? (int)query : 5 * m;
+        s->Swork = malloc((size_t)s->Slwork * sizeof(double));
+        if (!s->Swork)
+            return eom__fail(s, EOM_ERR_NOMEM, "out of memory");
+    }
     for (j = 0; j <= m; j++)
         s->Sp[j] = j * m;
     for (j = 0; j < m; j++)
@@ -466,11 +487,6 @@ int eom_system_new(eom_system **out, const eom_model *m, char *errmsg,
                               "both"
                             : "the model has no kinetic energy or "
                               "Lagrangian");
-        return EOM_ERR_MODEL;
-    }
-    if (m->n_con >= m->n_coords) {
-        copy_msg(errmsg, errmsg_len,
-                 "there must be fewer constraints than coordinates");
         return EOM_ERR_MODEL;
     }
     s = calloc(1, sizeof *s);

@@ -693,6 +693,8 @@ static void case_modes(void)
                             "--set", "m=2", NULL};
     const char *beam[] = {"closed-chain", "--modes", "--set", "links=1",
                           "--set", "modes=2", "--set", "g=0", NULL};
+    const char *beam_one[] = {"closed-chain", "--modes", "--set", "links=1",
+                              "--set", "modes=1", "--set", "g=0", NULL};
     const char *beam_ei[] = {"closed-chain", "--modes", "--set", "links=1",
                              "--set", "modes=2", "--set", "g=0", "--set",
                              "EI1=1e5", "--set", "m1=2", NULL};
@@ -750,6 +752,15 @@ static void case_modes(void)
     for (i = 0; i < n && i < 2; i++)
         CHECK_NEAR(w[i], pow((i + 1) * pi / 10.0, 2) * sqrt(4e4 / 0.1),
                    1e-6);
+    result_free(&r);
+    /* one mode: two coordinates, two constraints of rank 1 (the x row
+     * of C vanishes on the straight link); one degree of freedom */
+    run(&r, beam_one);
+    CHECK_INT(r.status, 0);
+    n = parse_modes(r.out, w, f, 16);
+    CHECK_INT(n, 1);
+    if (n == 1)
+        CHECK_NEAR(w[0], pow(pi / 10.0, 2) * sqrt(4e4 / 0.1), 1e-6);
     result_free(&r);
     run(&r, beam_ei);
     CHECK_INT(r.status, 0);

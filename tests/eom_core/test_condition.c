@@ -180,9 +180,10 @@ static void fourbar(void)
     CHECK(prev < 1e-9);
     {
         double x[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0}, rM, rS = -1.0;
-        CHECK_INT(eom_condition(s, x, &rM, &rS), EOM_ERR_RANK_DEFICIENT);
-        CHECK(rS == 0.0);
-        CHECK(strstr(eom_system_errmsg(s), "rank deficient") != NULL);
+        /* exactly singular: no error (the pseudo-inverse serves it), an
+         * estimate of 0 or at round-off */
+        CHECK_INT(eom_condition(s, x, &rM, &rS), EOM_OK);
+        CHECK(rS >= 0.0 && rS < 1e-15);
     }
     eom_system_free(&s);
 }
