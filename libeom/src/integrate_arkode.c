@@ -8,7 +8,8 @@
  * interpolant. Drift: a step postprocessing function projects every
  * accepted step onto the constraints (when projection is on and the
  * system has constraints), before ARKODE updates its interpolation data
- * and uses the step as the start of the next one.
+ * and uses the step as the start of the next one. It is installed for
+ * every model, for the method's order (see erk_init).
  *
  * Callbacks return 0, +1 for EOM_ERR_NONFINITE and -1 otherwise, and keep
  * the status and message of the most recent one: when the solver fails
@@ -117,8 +118,16 @@ static int erk_init(eom_integ *it)
     if (it->o.dt > 0.0 &&
         (flag = ERKStepSetInitStep(e->mem, it->o.dt)) < 0)
         return erk_setup_failed(it, flag, "ERKStepSetInitStep");
-    if (it->s->m > 0 &&
-        (flag = ERKStepSetPostprocessStepFn(e->mem, erk_postprocess)) < 0)
+    /* Installed for every model, constraints or not: ERKStep in SUNDIALS
+     * 6.4 takes the last stage of any table whose last node is c = 1 as
+     * f at the new step (first-same-as-last), although for Verner 8-5-6
+     * the last row of A is not b^T (llnl/sundials issue 311); the method
+     * then drops to order 3 (tests/eom_integrate/test_order.c measures it
+     * at 3.0, and 6.0 with this). A step postprocessing function tells
+     * ERKStep the step may have changed y, so it evaluates f at y_n+1
+     * afresh: one right-hand side per step, which a table that is not
+     * FSAL needs anyway. Without constraints the function does nothing. */
+    if ((flag = ERKStepSetPostprocessStepFn(e->mem, erk_postprocess)) < 0)
         return erk_setup_failed(it, flag, "ERKStepSetPostprocessStepFn");
     return EOM_OK;
 }

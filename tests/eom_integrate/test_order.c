@@ -1,0 +1,160 @@
+/* test_order.c - integrators checked by their order and their tolerance,
+ * on the spring pendulum (no constraints) over 10 s, against a reference
+ * computed here from the equations derived by hand,
+ *     r''  = r th'^2 - (k / m) (r - r0) + g cos th,
+ *     th'' = -(2 r' th' + g sin th) / r,
+ * by classical RK4 at h and h/2 (their difference bounds its error).
+ *
+ *   - rk4: the observed order over dt = 1e-2 .. 2.5e-3 (nominal 4);
+ *   - erk: the observed order from error against steps over rtol = atol =
+ *     1e-6 .. 1e-10 (nominal 6, the Verner 6(5) pair): fails more than
+ *     0.5 below it (an effective order of 3 is what a table reusing its
+ *     last stage as if first-same-as-last gives);
+ *   - erk: the global error stays within 100 times rtol = atol from 1e-6
+ *     to 1e-12.
+ * The other methods' order and proportionality are not checked here yet.
+ */
+#include <math.h>
+#include <stdio.h>
+
+#include "check.h"
+#include "eom_models.h"
+
+static const double M_ = 1.0, K_ = 75.0, R0_ = 1.0, G_ = 9.81, T_END = 10.0;
+
+static void sp_f(const double *y, double *f)
+{
+    const double r = y[0], th = y[1], rd = y[2], thd = y[3];
+    f[0] = rd;
+    f[1] = thd;
+    f[2] = r * thd * thd - K_ / M_ * (r - R0_) + G_ * cos(th);
+    f[3] = -(2.0 * rd * thd + G_ * sin(th)) / r;
+}
+
+static void rk4_hand(long steps, double *y)
+{
+    const double h = T_END / (double)steps;
+    long i;
+    int e;
+    for (i = 0; i < steps; i++) {
+        double k1[4], k2[4], k3[4], k4[4], z[4];
+        sp_f(y, k1);
+        for (e = 0; e < 4; e++) z[e] = y[e] + 0.5 * h * k1[e];
+        sp_f(z, k2);
+        for (e = 0; e < 4; e++) z[e] = y[e] + 0.5 * h * k2[e];
+        sp_f(z, k3);
+        for (e = 0; e < 4; e++) z[e] = y[e] + h * k3[e];
+        sp_f(z, k4);
+        for (e = 0; e < 4; e++)
+            y[e] += h / 6.0 * (k1[e] + 2 * k2[e] + 2 * k3[e] + k4[e]);
+    }
+}
+
+static double max_diff(const double *a, const double *b)
+{
+    double d = 0.0;
+    int e;
+    for (e = 0; e < 4; e++)
+        d = fmax(d, fabs(a[e] - b[e]));
+    return d;
+}
+
+/* the state at T_END by method m; steps taken in *steps */
+static int run(eom_system *s, eom_method m, double dt, double tol, double *x,
+               long *steps)
+{
+    eom_integ *it = NULL;
+    eom_opts o;
+    eom_stats st;
+    int rc;
+    eom_opts_default(&o);
+    o.method = m;
+    o.dt = dt;
+    o.rtol = o.atol = tol;
+    CHECK_INT(eom_initial_state(s, x), EOM_OK);
+    rc = eom_integ_new(&it, s, &o, 0.0, x);
+    if (rc == EOM_OK)
+        rc = eom_integ_advance(it, T_END, x, NULL);
+    if (rc == EOM_OK && eom_integ_stats(it, &st) == EOM_OK)
+        *steps = st.steps;
+    if (rc != EOM_OK)
+        fprintf(stderr, "%s: %s\n", eom_method_name(m), eom_integ_errmsg(it));
+    eom_integ_free(&it);
+    return rc;
+}
+
+/* least-squares slope of log(err) against log(x) */
+static double slope(int n, const double *x, const double *err)
+{
+    double sx = 0, sy = 0, sxx = 0, sxy = 0;
+    int i;
+    for (i = 0; i < n; i++) {
+        const double a = log(x[i]), b = log(err[i]);
+        sx += a;
+        sy += b;
+        sxx += a * a;
+        sxy += a * b;
+    }
+    return (n * sxy - sx * sy) / (n * sxx - sx * sx);
+}
+
+int main(void)
+{
+    eom_system *s = NULL;
+    eom_model *md = eom_models_spring_pendulum(M_, K_, R0_, G_);
+    double ref[4] = {R0_ + 0.1, 0.5, 0.0, 0.0}, ref2[4], x[4];
+    double err[8], xs[8], p;
+    char msg[256];
+    long steps = 0;
+    int i;
+
+    /* the reference, and a bound on its own error */
+    for (i = 0; i < 4; i++)
+        ref2[i] = ref[i];
+    rk4_hand(400000, ref);
+    rk4_hand(800000, ref2);
+    printf("reference: h and h/2 differ by %.3g\n", max_diff(ref, ref2));
+    CHECK(max_diff(ref, ref2) < 1e-12);
+
+    CHECK_INT(eom_system_new(&s, md, msg, sizeof msg), EOM_OK);
+    eom_model_free(&md);
+    if (!s)
+        CHECK_DONE();
+
+    /* rk4: dt = 1e-2, 5e-3, 2.5e-3 */
+    for (i = 0; i < 3; i++) {
+        const double dt = 1e-2 / (1 << i);
+        CHECK_INT(run(s, EOM_RK4, dt, 1e-8, x, &steps), EOM_OK);
+        xs[i] = dt;
+        err[i] = max_diff(x, ref2);
+        printf("rk4 dt %-8g error %.3g\n", dt, err[i]);
+    }
+    p = slope(3, xs, err);
+    printf("rk4: observed order %.2f (nominal 4)\n", p);
+    CHECK(p > 3.5 && p < 4.5);
+
+    /* erk: error against steps */
+    for (i = 0; i < 5; i++) {
+        const double tol = pow(10.0, -6 - i);
+        CHECK_INT(run(s, EOM_ERK, 0.0, tol, x, &steps), EOM_OK);
+        xs[i] = (double)steps;
+        err[i] = max_diff(x, ref2);
+        printf("erk tol %-6g steps %6ld error %.3g (%.3g x tol)\n", tol,
+               steps, err[i], err[i] / tol);
+    }
+    p = -slope(5, xs, err);
+    printf("erk: observed order %.2f (nominal 6)\n", p);
+    CHECK(p > 5.5);
+
+    /* erk: tolerance proportionality down to 1e-12 */
+    for (i = 0; i < 4; i++) {
+        const double tol = pow(10.0, -6 - 2 * i);
+        CHECK_INT(run(s, EOM_ERK, 0.0, tol, x, &steps), EOM_OK);
+        check_count_++;
+        if (!(max_diff(x, ref2) <= 100.0 * tol))
+            CHECK_FAIL_("erk at tol %g: error %.3g is %.3g x tol", tol,
+                        max_diff(x, ref2), max_diff(x, ref2) / tol);
+    }
+    eom_system_free(&s);
+    CHECK_DONE();
+}
