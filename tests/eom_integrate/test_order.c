@@ -12,6 +12,12 @@
  *     last stage as if first-same-as-last gives);
  *   - erk: the global error stays within 100 times rtol = atol from 1e-6
  *     to 1e-12.
+ *   - every adaptive method honours rtol and atol as given, each for its
+ *     part: a harmonic oscillator of amplitude 1e4, x = A cos(w t), run
+ *     with (rtol, atol) = (1e-12, 1e-3), where atol governs, and swapped,
+ *     where rtol does and allows errors of order A rtol = 10: the first
+ *     must be far more accurate than the second (a swap in the solver
+ *     setup turns that around).
  * The other methods' order and proportionality are not checked here yet.
  */
 #include <math.h>
@@ -81,6 +87,78 @@ static int run(eom_system *s, eom_method m, double dt, double tol, double *x,
         fprintf(stderr, "%s: %s\n", eom_method_name(m), eom_integ_errmsg(it));
     eom_integ_free(&it);
     return rc;
+}
+
+/* ---- the oscillator: T = xd^2 / 2, V = w^2 x^2 / 2 ------------------------ */
+
+static const double OSC_A = 1e4, OSC_W = 6.283185307179586;
+
+static int osc_T(eom_ctx *c, void *user, tp_val *out)
+{
+    (void)user;
+    *out = tp_mulc(eom_rec(c), tp_sqr(eom_rec(c), eom_qd(c, 0)), 0.5);
+    return 0;
+}
+
+static int osc_V(eom_ctx *c, void *user, tp_val *out)
+{
+    (void)user;
+    *out = tp_mulc(eom_rec(c), tp_sqr(eom_rec(c), eom_q(c, 0)),
+                   0.5 * OSC_W * OSC_W);
+    return 0;
+}
+
+/* max |x - A cos(w t)| / A at t = 1, 2, .. 10 by method m */
+static double osc_error(eom_system *s, eom_method m, double rtol,
+                        double atol)
+{
+    eom_integ *it = NULL;
+    eom_opts o;
+    double x[2] = {OSC_A, 0.0}, err = 0.0;
+    int k, rc;
+    eom_opts_default(&o);
+    o.method = m;
+    o.dt = 0.0;
+    o.rtol = rtol;
+    o.atol = atol;
+    rc = eom_integ_new(&it, s, &o, 0.0, x);
+    for (k = 1; k <= 10 && rc == EOM_OK; k++) {
+        rc = eom_integ_advance(it, (double)k, x, NULL);
+        err = fmax(err, fabs(x[0] - OSC_A * cos(OSC_W * k)));
+    }
+    CHECK_INT(rc, EOM_OK);
+    eom_integ_free(&it);
+    return err;
+}
+
+static void tolerances(void)
+{
+    static const eom_method adaptive[] = {EOM_ERK, EOM_ADAMS, EOM_BDF,
+                                          EOM_IDA};
+    eom_model *md = NULL;
+    eom_system *s = NULL;
+    char msg[256];
+    int i;
+    CHECK_INT(eom_model_new(&md), EOM_OK);
+    eom_model_add_coord(md, "x", "m", OSC_A, 0.0);
+    eom_model_set_kinetic(md, osc_T, NULL);
+    eom_model_set_potential(md, osc_V, NULL);
+    CHECK_INT(eom_system_new(&s, md, msg, sizeof msg), EOM_OK);
+    eom_model_free(&md);
+    if (!s)
+        return;
+    for (i = 0; i < 4; i++) {
+        const double ea = osc_error(s, adaptive[i], 1e-12, 1e-3);
+        const double er = osc_error(s, adaptive[i], 1e-3, 1e-12);
+        printf("%-5s: error %.3g with atol 1e-3 governing, %.3g with rtol "
+               "1e-3 governing\n", eom_method_name(adaptive[i]), ea, er);
+        check_count_++;
+        if (!(ea < 1.0 && er > 5.0 * ea))
+            CHECK_FAIL_("%s: rtol and atol not honoured as given (errors "
+                        "%.3g and %.3g)", eom_method_name(adaptive[i]), ea,
+                        er);
+    }
+    eom_system_free(&s);
 }
 
 /* least-squares slope of log(err) against log(x) */
@@ -156,5 +234,6 @@ int main(void)
                         max_diff(x, ref2), max_diff(x, ref2) / tol);
     }
     eom_system_free(&s);
+    tolerances();
     CHECK_DONE();
 }
