@@ -642,7 +642,13 @@ static const rw_case rw_cases[] = {
     {"atan2(c,c)", TP_OP_CONST},
     {"x0x1-x1x0", TP_OP_CONST},
     {"c*p", TP_OP_MULC},
+    {"subc(e,2.5)", TP_OP_ADDC},
+    {"divc(e,4)", TP_OP_MULC},
+    {"divc(e,3)", TP_OP_DIV},
 };
+/* The constant-operand calls and the binary ops they stand for record the
+ * same op (hash-consing makes it the same slot): output index pairs. */
+static const int rw_same[][2] = {{38, 3}, {39, 8}, {40, 9}};
 #define N_RW ((int)(sizeof rw_cases / sizeof rw_cases[0]))
 
 static int rw_record(tp_rec *r, void *user)
@@ -694,6 +700,9 @@ static int rw_record(tp_rec *r, void *user)
     /* a parameter is not a constant: never folded, but MUL by a constant
      * still becomes MULC */
     v[i++] = tp_mul(r, tp_const(r, 3.0), p);
+    v[i++] = tp_subc(r, e, 2.5);
+    v[i++] = tp_divc(r, e, 4.0);
+    v[i++] = tp_divc(r, e, 3.0);
     for (i = 0; i < N_RW; i++)
         tp_output(r, rw_cases[i].name, v[i]);
     return 0;
@@ -732,6 +741,11 @@ static void rewrites(void)
             check_count_++;
         }
     }
+    for (k = 0; k < (int)(sizeof rw_same / sizeof rw_same[0]); k++)
+        if (T->out_slot[rw_same[k][0]] != T->out_slot[rw_same[k][1]])
+            CHECK_FAIL_("%s records another op than %s",
+                        rw_cases[rw_same[k][0]].name,
+                        rw_cases[rw_same[k][1]].name);
     /* a + b and b + a are one op */
     CHECK_INT(T->out_slot[1], T->out_slot[2]);
     CHECK_INT(T->out_slot[5], T->out_slot[6]);

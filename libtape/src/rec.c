@@ -421,6 +421,19 @@ tp_val tp_mulc(tp_rec *r, tp_val a, double c)
     return tp__rec_op(r, TP_OP_MULC, a, zero_b, c);
 }
 
+/* a - c and a / c go through the binary ops with a constant leaf, so
+ * they record exactly what tp_sub and tp_div with tp_const would (ADDC of
+ * -c; MULC of 1 / c when that is exact, else DIV). */
+tp_val tp_subc(tp_rec *r, tp_val a, double c)
+{
+    return tp_sub(r, a, tp_const(r, c));
+}
+
+tp_val tp_divc(tp_rec *r, tp_val a, double c)
+{
+    return tp_div(r, a, tp_const(r, c));
+}
+
 tp_val tp_csub(tp_rec *r, double c, tp_val a)
 {
     return tp__rec_op(r, TP_OP_CSUB, a, zero_b, c);

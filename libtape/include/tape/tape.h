@@ -197,10 +197,16 @@ TP_API tp_val tp_tanh(tp_rec *r, tp_val a);
 /* |a|; its derivative is taken as sign(a), 0 at a == 0. */
 TP_API tp_val tp_abs(tp_rec *r, tp_val a);
 
+/* Constant operands. One naming rule: a trailing c (tp_addc) means the
+ * constant is the right operand and comes last, a leading c (tp_csub)
+ * means it is the left operand and comes first; the arguments are in the
+ * order of the operands. */
 TP_API tp_val tp_powi(tp_rec *r, tp_val a, int k);      /* a ^ k */
 TP_API tp_val tp_powc(tp_rec *r, tp_val a, double c);   /* a ^ c */
 TP_API tp_val tp_addc(tp_rec *r, tp_val a, double c);   /* a + c */
-TP_API tp_val tp_mulc(tp_rec *r, tp_val a, double c);   /* c * a */
+TP_API tp_val tp_subc(tp_rec *r, tp_val a, double c);   /* a - c */
+TP_API tp_val tp_mulc(tp_rec *r, tp_val a, double c);   /* a * c */
+TP_API tp_val tp_divc(tp_rec *r, tp_val a, double c);   /* a / c */
 TP_API tp_val tp_csub(tp_rec *r, double c, tp_val a);   /* c - a */
 TP_API tp_val tp_cdiv(tp_rec *r, double c, tp_val a);   /* c / a */
 
@@ -245,6 +251,13 @@ typedef struct tp_tape_stats {
     size_t n_dead;      /* ops removed by dead-code elimination */
 } tp_tape_stats;
 TP_API int tp_tape_stats_get(const tp_tape *t, tp_tape_stats *st);
+
+/* 1 if a and b are the same tape op for op (opcodes, operands, constant
+ * pool, parameters, outputs and groups), else 0; *first_diff (may be
+ * NULL) receives the index of the first op that differs (the length of
+ * the shorter when one is a prefix of the other). */
+TP_API int tp_tape_equal(const tp_tape *a, const tp_tape *b,
+                         size_t *first_diff);
 
 /* Number of ops that depend on the independents of the groups in mask
  * (bit g for group g); with mask 0, the number of passive ops. */
