@@ -54,6 +54,7 @@ enum {
     OPT_DESCRIBE,
     OPT_SAMPLE,
     OPT_INTEGRATOR,
+    OPT_ERK_TABLE,
     OPT_DT,
     OPT_RTOL,
     OPT_ATOL,
@@ -72,6 +73,7 @@ static const struct option long_options[] = {
     {"t-end", required_argument, NULL, 't'},
     {"sample", required_argument, NULL, OPT_SAMPLE},
     {"integrator", required_argument, NULL, OPT_INTEGRATOR},
+    {"erk-table", required_argument, NULL, OPT_ERK_TABLE},
     {"dt", required_argument, NULL, OPT_DT},
     {"rtol", required_argument, NULL, OPT_RTOL},
     {"atol", required_argument, NULL, OPT_ATOL},
@@ -113,6 +115,9 @@ static void help(void)
         "      --sample DT       interval between CSV rows, > 0 (default "
         "0.01)\n"
         "      --integrator M    rk4, erk, adams, bdf or ida (default rk4)\n"
+        "      --erk-table NAME  erk: an ARKODE ERK table (default "
+        "ARKODE_VERNER_8_5_6;\n"
+        "                        docs/integrators.md lists them)\n"
         "      --dt H            rk4: the step; other methods: the first "
         "step tried,\n"
         "                        > 0 (default 0.001)\n"
@@ -187,6 +192,23 @@ static int number_arg(const char *opt, const char *text, int positive,
                            positive ? "> 0" : ">= 0");
     *out = v;
     return 0;
+}
+
+/* --erk-table: one of the names libeom knows, else the list. */
+static int erk_table_arg(const char *text, const char **out)
+{
+    char list[1024] = "";
+    int k;
+    for (k = 0; eom_erk_table_name(k); k++) {
+        if (strcmp(text, eom_erk_table_name(k)) == 0) {
+            *out = text;
+            return 0;
+        }
+        snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s",
+                 k ? ", " : "", eom_erk_table_name(k));
+    }
+    return usage_error("--erk-table '%s': unknown table (choose one of %s)",
+                       text, list);
 }
 
 static int integrator_arg(const char *text, eom_method *out)
@@ -269,6 +291,9 @@ static int parse(int argc, char **argv, cli *c)
             break;
         case OPT_INTEGRATOR:
             rc = integrator_arg(optarg, &c->opts.method);
+            break;
+        case OPT_ERK_TABLE:
+            rc = erk_table_arg(optarg, &c->opts.erk_table);
             break;
         case OPT_DT: rc = number_arg("--dt", optarg, 1, &c->opts.dt); break;
         case OPT_RTOL:

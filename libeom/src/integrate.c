@@ -39,6 +39,15 @@ void eom_opts_default(eom_opts *o)
     o->max_steps = 10000000L;
     o->project = 1;
     o->proj_tol = 1e-12;
+    o->atol_vec = NULL;
+    o->erk_table = NULL;
+}
+
+void eom__integ_atol(const eom_integ *it, double *atol, int len)
+{
+    int i;
+    for (i = 0; i < len; i++)
+        atol[i] = it->atolv && i < 2 * it->n ? it->atolv[i] : it->o.atol;
 }
 
 int eom__integ_fail(eom_integ *it, int status, const char *fmt, ...)
@@ -120,9 +129,10 @@ static const eom_integ_ops *ops_of(eom_method m)
     }
 }
 
-static int check_opts(const eom_opts *o, char *msg, size_t len)
+static int check_opts(const eom_opts *o, int n, char *msg, size_t len)
 {
     const char *bad = NULL;
+    int i;
     if (!ops_of(o->method))
         bad = "unknown integration method";
     else if (o->method == EOM_RK4 && !(o->dt > 0.0 && isfinite(o->dt)))
@@ -137,6 +147,14 @@ static int check_opts(const eom_opts *o, char *msg, size_t len)
         bad = "max_steps must be >= 1";
     else if (o->project && !(o->proj_tol > 0.0))
         bad = "the projection tolerance must be > 0";
+    else if (o->erk_table && strlen(o->erk_table) >= EOM_TABLE_NAME_LEN)
+        bad = "the ERK table name is too long";
+    for (i = 0; o->atol_vec && !bad && i < 2 * n; i++)
+        if (!(o->atol_vec[i] > 0.0 && isfinite(o->atol_vec[i]))) {
+            snprintf(msg, len, "atol_vec[%d] = %g: every absolute "
+                     "tolerance must be > 0 and finite", i, o->atol_vec[i]);
+            return EOM_ERR_ARG;
+        }
     if (bad)
         snprintf(msg, len, "%s", bad);
     return bad ? EOM_ERR_ARG : EOM_OK;
@@ -152,7 +170,7 @@ int eom_integ_new(eom_integ **out, eom_system *s, const eom_opts *o,
     *out = NULL;
     if (!s || !o || !x0)
         return EOM_ERR_NULL;
-    if ((rc = check_opts(o, s->msg, sizeof s->msg)) != EOM_OK)
+    if ((rc = check_opts(o, s->n, s->msg, sizeof s->msg)) != EOM_OK)
         return rc;
     if (!isfinite(t0) || !eom__finite(x0, 2 * (size_t)s->n))
         return eom__fail(s, EOM_ERR_NONFINITE,
@@ -162,12 +180,26 @@ int eom_integ_new(eom_integ **out, eom_system *s, const eom_opts *o,
         return EOM_ERR_NOMEM;
     it->s = s;
     it->o = *o;
+    /* nothing borrowed outlives this call */
+    it->o.atol_vec = NULL;
+    it->o.erk_table = NULL;
+    if (o->erk_table)
+        strcpy(it->erk_table, o->erk_table);
+    if (o->atol_vec) {
+        it->atolv = malloc(2 * (size_t)s->n * sizeof(double));
+        if (!it->atolv) {
+            free(it);
+            return EOM_ERR_NOMEM;
+        }
+        memcpy(it->atolv, o->atol_vec, 2 * (size_t)s->n * sizeof(double));
+    }
     it->n = s->n;
     it->N = 2 * s->n + 1;
     it->t = t0;
     it->ops = ops_of(o->method);
     it->y = calloc((size_t)it->N, sizeof(double));
     if (!it->y) {
+        free(it->atolv);
         free(it);
         return EOM_ERR_NOMEM;
     }
@@ -190,6 +222,7 @@ void eom_integ_free(eom_integ **it)
     if ((*it)->ops && (*it)->ops->destroy)
         (*it)->ops->destroy(*it);
     free((*it)->y);
+    free((*it)->atolv);
     free(*it);
     *it = NULL;
 }

@@ -31,6 +31,36 @@
 
 #define ERK_TABLE ARKODE_VERNER_8_5_6
 
+/* The ERK tables of SUNDIALS 6.4 (arkode_butcher_erk.h) with an embedded
+ * error estimate, by name: checked here so that an unknown name is
+ * refused with the list, before ARKODE would print its own error.
+ * ARKODE_KNOTH_WOLKE_3_3 has no embedding, so it cannot choose its steps
+ * (ARKODE refuses it with ARK_ILL_INPUT) and is left out. */
+static const char *const erk_tables[] = {
+    "ARKODE_HEUN_EULER_2_1_2",     "ARKODE_BOGACKI_SHAMPINE_4_2_3",
+    "ARKODE_ARK324L2SA_ERK_4_2_3", "ARKODE_ZONNEVELD_5_3_4",
+    "ARKODE_ARK436L2SA_ERK_6_3_4", "ARKODE_SAYFY_ABURUB_6_3_4",
+    "ARKODE_CASH_KARP_6_4_5",      "ARKODE_FEHLBERG_6_4_5",
+    "ARKODE_DORMAND_PRINCE_7_4_5", "ARKODE_ARK548L2SA_ERK_8_4_5",
+    "ARKODE_VERNER_8_5_6",         "ARKODE_FEHLBERG_13_7_8",
+    "ARKODE_ARK437L2SA_ERK_7_3_4", "ARKODE_ARK548L2SAb_ERK_8_4_5",
+};
+
+const char *eom_erk_table_name(int k)
+{
+    const int count = (int)(sizeof erk_tables / sizeof erk_tables[0]);
+    return k >= 0 && k < count ? erk_tables[k] : NULL;
+}
+
+static int erk_table_known(const char *name)
+{
+    int k;
+    for (k = 0; eom_erk_table_name(k); k++)
+        if (strcmp(eom_erk_table_name(k), name) == 0)
+            return 1;
+    return 0;
+}
+
 typedef struct erk {
     SUNContext ctx;
     N_Vector y;                /* [N] the solver's state */
@@ -108,10 +138,30 @@ static int erk_init(eom_integ *it)
         return erk_setup_failed(it, flag, "ERKStepSetErrHandlerFn");
     if ((flag = ERKStepSetUserData(e->mem, it)) < 0)
         return erk_setup_failed(it, flag, "ERKStepSetUserData");
-    if ((flag = ERKStepSetTableNum(e->mem, ERK_TABLE)) < 0)
+    if (it->erk_table[0]) {
+        if (!erk_table_known(it->erk_table))
+            return eom__integ_fail(it, EOM_ERR_ARG,
+                                   "unknown ERK table '%s' (eom_erk_table_name "
+                                   "lists them; docs/integrators.md too)",
+                                   it->erk_table);
+        if ((flag = ERKStepSetTableName(e->mem, it->erk_table)) < 0)
+            return erk_setup_failed(it, flag, "ERKStepSetTableName");
+    } else if ((flag = ERKStepSetTableNum(e->mem, ERK_TABLE)) < 0) {
         return erk_setup_failed(it, flag, "ERKStepSetTableNum");
-    if ((flag = ERKStepSStolerances(e->mem, it->o.rtol, it->o.atol)) < 0)
+    }
+    if (it->atolv) {
+        N_Vector a = N_VNew_Serial(it->N, e->ctx);
+        if (!a)
+            return eom__integ_nomem(it);
+        eom__integ_atol(it, N_VGetArrayPointer(a), it->N);
+        flag = ERKStepSVtolerances(e->mem, it->o.rtol, a); /* copies a */
+        N_VDestroy(a);
+        if (flag < 0)
+            return erk_setup_failed(it, flag, "ERKStepSVtolerances");
+    } else if ((flag = ERKStepSStolerances(e->mem, it->o.rtol,
+                                           it->o.atol)) < 0) {
         return erk_setup_failed(it, flag, "ERKStepSStolerances");
+    }
     /* explicitly: the default of 500 would stop tight-tolerance runs */
     if ((flag = ERKStepSetMaxNumSteps(e->mem, it->o.max_steps)) < 0)
         return erk_setup_failed(it, flag, "ERKStepSetMaxNumSteps");

@@ -170,8 +170,19 @@ static int ida_setup(eom_integ *it, ida *d)
     int flag;
     if ((flag = IDASetUserData(d->mem, it)) < 0)
         return ida_setup_failed(it, flag, "IDASetUserData");
-    if ((flag = IDASStolerances(d->mem, it->o.rtol, it->o.atol)) < 0)
+    if (it->atolv) {
+        /* Y = (q, v, lambda, W): atol_vec for q and v, atol after */
+        N_Vector a = N_VNew_Serial(d->NY, d->ctx);
+        if (!a)
+            return eom__integ_nomem(it);
+        eom__integ_atol(it, N_VGetArrayPointer(a), d->NY);
+        flag = IDASVtolerances(d->mem, it->o.rtol, a); /* copies a */
+        N_VDestroy(a);
+        if (flag < 0)
+            return ida_setup_failed(it, flag, "IDASVtolerances");
+    } else if ((flag = IDASStolerances(d->mem, it->o.rtol, it->o.atol)) < 0) {
         return ida_setup_failed(it, flag, "IDASStolerances");
+    }
     /* explicitly: the default of 500 would stop tight-tolerance runs */
     if ((flag = IDASetMaxNumSteps(d->mem, it->o.max_steps)) < 0)
         return ida_setup_failed(it, flag, "IDASetMaxNumSteps");

@@ -23,6 +23,8 @@ typedef struct eom_integ_ops {
     void (*destroy)(eom_integ *it);
 } eom_integ_ops;
 
+#define EOM_TABLE_NAME_LEN 64
+
 struct eom_integ {
     eom_system *s;
     eom_opts o;
@@ -36,7 +38,14 @@ struct eom_integ {
     char msg[2 * EOM_MSG_LEN]; /* room to quote the system's message */
     const eom_integ_ops *ops;
     void *impl;
+    double *atolv;  /* [2n] per-component atol (o.atol_vec), or NULL */
+    char erk_table[EOM_TABLE_NAME_LEN]; /* o.erk_table, or "" */
 };
+
+/* The absolute tolerance of each of the len components of a solver's
+ * unknowns: atol_vec for the first 2n (q, qd) when given, atol for the
+ * rest and otherwise. */
+void eom__integ_atol(const eom_integ *it, double *atol, int len);
 
 /* yd = dy/dt at (t, y): (qd, qdd, dW/dt). Counts the evaluation. Returns
  * the status of eom__evaluate (message in it->msg on failure). */

@@ -426,6 +426,8 @@ static void case_usage(void)
         {{"spring-pendulum", "--baumgarte", "1,-2"}, 2, "must be >= 0"},
         {{"spring-pendulum", "--integrator", "euler"}, 2,
          "unknown integrator"},
+        {{"spring-pendulum", "--erk-table", "ARKODE_NOPE"}, 2,
+         "ARKODE_DORMAND_PRINCE_7_4_5"},
         {{"spring-pendulum", "--t-end", "1e9", "--sample", "1e-9"}, 2,
          "rows"},
         {{"spring-pendulum", "extra"}, 2, "unexpected argument 'extra'"},

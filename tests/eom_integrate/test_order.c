@@ -18,10 +18,16 @@
  *     where rtol does and allows errors of order A rtol = 10: the first
  *     must be far more accurate than the second (a swap in the solver
  *     setup turns that around).
+ *   - erk with another table by name (Dormand-Prince 5(4)): its order;
+ *     an unknown name is an error naming it;
+ *   - per-coordinate absolute tolerances (atol_vec): equal entries give
+ *     the scalar atol's run bit for bit, loose ones a looser result, a
+ *     bad entry an error.
  * The other methods' order and proportionality are not checked here yet.
  */
 #include <math.h>
 #include <stdio.h>
+#include <string.h>
 
 #include "check.h"
 #include "eom_models.h"
@@ -108,9 +114,10 @@ static int osc_V(eom_ctx *c, void *user, tp_val *out)
     return 0;
 }
 
-/* max |x - A cos(w t)| / A at t = 1, 2, .. 10 by method m */
-static double osc_error(eom_system *s, eom_method m, double rtol,
-                        double atol)
+/* max |x - A cos(w t)| at t = 1, 2, .. 10 by method m, with atol_vec
+ * when av is not NULL; the final state in xf (may be NULL) */
+static double osc_run(eom_system *s, eom_method m, double rtol, double atol,
+                      const double *av, double *xf)
 {
     eom_integ *it = NULL;
     eom_opts o;
@@ -121,14 +128,25 @@ static double osc_error(eom_system *s, eom_method m, double rtol,
     o.dt = 0.0;
     o.rtol = rtol;
     o.atol = atol;
+    o.atol_vec = av;
     rc = eom_integ_new(&it, s, &o, 0.0, x);
     for (k = 1; k <= 10 && rc == EOM_OK; k++) {
         rc = eom_integ_advance(it, (double)k, x, NULL);
         err = fmax(err, fabs(x[0] - OSC_A * cos(OSC_W * k)));
     }
     CHECK_INT(rc, EOM_OK);
+    if (xf) {
+        xf[0] = x[0];
+        xf[1] = x[1];
+    }
     eom_integ_free(&it);
     return err;
+}
+
+static double osc_error(eom_system *s, eom_method m, double rtol,
+                        double atol)
+{
+    return osc_run(s, m, rtol, atol, NULL, NULL);
 }
 
 static void tolerances(void)
@@ -158,6 +176,33 @@ static void tolerances(void)
                         "%.3g and %.3g)", eom_method_name(adaptive[i]), ea,
                         er);
     }
+    /* atol_vec: equal to atol everywhere is the scalar run; loose for x
+     * and its rate is a looser run than tight */
+    for (i = 0; i < 4; i++) {
+        const double same[2] = {1e-3, 1e-3}, loose[2] = {1e-1, 1e-1};
+        const double tight[2] = {1e-5, 1e-5};
+        double xs[2], xv[2], el, et;
+        osc_run(s, adaptive[i], 1e-12, 1e-3, NULL, xs);
+        osc_run(s, adaptive[i], 1e-12, 1e-3, same, xv);
+        CHECK(xs[0] == xv[0] && xs[1] == xv[1]);
+        el = osc_run(s, adaptive[i], 1e-12, 1e-3, loose, NULL);
+        et = osc_run(s, adaptive[i], 1e-12, 1e-3, tight, NULL);
+        printf("%-5s: error %.3g with atol_vec 1e-1, %.3g with 1e-5\n",
+               eom_method_name(adaptive[i]), el, et);
+        CHECK(el > 10.0 * et);
+    }
+    {
+        const double bad[2] = {1e-3, -1.0};
+        eom_integ *it = NULL;
+        eom_opts o;
+        double x[2] = {OSC_A, 0.0};
+        eom_opts_default(&o);
+        o.method = EOM_BDF;
+        o.atol_vec = bad;
+        CHECK_INT(eom_integ_new(&it, s, &o, 0.0, x), EOM_ERR_ARG);
+        CHECK(strstr(eom_system_errmsg(s), "atol_vec[1]") != NULL);
+        CHECK(it == NULL);
+    }
     eom_system_free(&s);
 }
 
@@ -181,7 +226,7 @@ int main(void)
     eom_system *s = NULL;
     eom_model *md = eom_models_spring_pendulum(M_, K_, R0_, G_);
     double ref[4] = {R0_ + 0.1, 0.5, 0.0, 0.0}, ref2[4], x[4];
-    double err[8], xs[8], p;
+    double err[8], xs[8], p, verner_steps;
     char msg[256];
     long steps = 0;
     int i;
@@ -223,6 +268,7 @@ int main(void)
     p = -slope(5, xs, err);
     printf("erk: observed order %.2f (nominal 6)\n", p);
     CHECK(p > 5.5);
+    verner_steps = xs[4];
 
     /* erk: tolerance proportionality down to 1e-12 */
     for (i = 0; i < 4; i++) {
@@ -232,6 +278,55 @@ int main(void)
         if (!(max_diff(x, ref2) <= 100.0 * tol))
             CHECK_FAIL_("erk at tol %g: error %.3g is %.3g x tol", tol,
                         max_diff(x, ref2), max_diff(x, ref2) / tol);
+    }
+    /* erk with the Dormand-Prince 5(4) table, by name */
+    for (i = 0; i < 5; i++) {
+        const double tol = pow(10.0, -6 - i);
+        eom_integ *it = NULL;
+        eom_opts o;
+        eom_stats st;
+        eom_opts_default(&o);
+        o.method = EOM_ERK;
+        o.dt = 0.0;
+        o.rtol = o.atol = tol;
+        o.erk_table = "ARKODE_DORMAND_PRINCE_7_4_5";
+        CHECK_INT(eom_initial_state(s, x), EOM_OK);
+        CHECK_INT(eom_integ_new(&it, s, &o, 0.0, x), EOM_OK);
+        CHECK_INT(eom_integ_advance(it, T_END, x, NULL), EOM_OK);
+        CHECK_INT(eom_integ_stats(it, &st), EOM_OK);
+        eom_integ_free(&it);
+        xs[i] = (double)st.steps;
+        err[i] = max_diff(x, ref2);
+    }
+    p = -slope(5, xs, err);
+    printf("erk, Dormand-Prince 5(4): observed order %.2f (nominal 5), "
+           "%g steps at 1e-10 against Verner's %g\n", p, xs[4],
+           verner_steps);
+    CHECK(p > 4.5);
+    CHECK(xs[4] > 1.3 * verner_steps); /* the lower order shows */
+    /* every name listed is one ARKODE takes, and runs */
+    for (i = 0; eom_erk_table_name(i); i++) {
+        eom_integ *it = NULL;
+        eom_opts o;
+        eom_opts_default(&o);
+        o.method = EOM_ERK;
+        o.erk_table = eom_erk_table_name(i);
+        CHECK_INT(eom_initial_state(s, x), EOM_OK);
+        CHECK_INT(eom_integ_new(&it, s, &o, 0.0, x), EOM_OK);
+        CHECK_INT(eom_integ_advance(it, 0.5, x, NULL), EOM_OK);
+        eom_integ_free(&it);
+    }
+    CHECK_INT(i, 14);
+    {
+        eom_integ *it = NULL;
+        eom_opts o;
+        eom_opts_default(&o);
+        o.method = EOM_ERK;
+        o.erk_table = "ARKODE_NO_SUCH_TABLE";
+        CHECK_INT(eom_initial_state(s, x), EOM_OK);
+        CHECK_INT(eom_integ_new(&it, s, &o, 0.0, x), EOM_ERR_ARG);
+        CHECK(strstr(eom_system_errmsg(s), "ARKODE_NO_SUCH_TABLE") != NULL);
+        CHECK(it == NULL);
     }
     eom_system_free(&s);
     tolerances();

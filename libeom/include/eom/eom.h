@@ -328,9 +328,24 @@ typedef struct eom_opts {
                          erk and bdf, at each requested time with adams
                          and ida (docs/integrators.md) */
     double proj_tol;  /* projection tolerance on |phi| (default 1e-12) */
+    const double *atol_vec; /* adaptive methods: NULL (default) for atol on
+                               every component, or 2n absolute tolerances
+                               for (q, qd), each > 0 and finite, for
+                               coordinates of different scales (angles
+                               and deflections); copied by eom_integ_new.
+                               W and IDA's multipliers keep atol */
+    const char *erk_table;  /* erk: the name of an ARKODE ERK table, such
+                               as "ARKODE_DORMAND_PRINCE_7_4_5" (docs/
+                               integrators.md lists them); NULL (default):
+                               "ARKODE_VERNER_8_5_6"; copied */
 } eom_opts;
 
-/* Defaults: RK4 with dt = 1e-3, rtol = 1e-8, atol = 1e-10. */
+/* The names eom_opts.erk_table accepts: the k-th for k = 0, 1, ..., then
+ * NULL. */
+EOM_API const char *eom_erk_table_name(int k);
+
+/* Defaults: RK4 with dt = 1e-3, rtol = 1e-8, atol = 1e-10, no atol_vec,
+ * the default ERK table. */
 EOM_API void eom_opts_default(eom_opts *o);
 
 typedef struct eom_stats {
