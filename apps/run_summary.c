@@ -2,6 +2,7 @@
 #include "run_summary.h"
 
 #include <math.h>
+#include <string.h>
 
 void run_summary_init(run_summary *r)
 {
@@ -32,7 +33,9 @@ void run_summary_print(const run_summary *r, FILE *f, const char *label,
                        const char *method, const eom_stats *st,
                        int nconstraints, double wall)
 {
-    eom_stats zero = {0, 0, 0, 0, 0, 0.0, 0.0};
+    eom_stats zero;
+    memset(&zero, 0, sizeof zero);
+    zero.min_rcond_S = 1.0;
     if (!st)
         st = &zero;
     fprintf(f, "eom-run: %s with %s: %ld row%s, t = 0 .. %.10g\n", label,
@@ -48,11 +51,17 @@ void run_summary_print(const run_summary *r, FILE *f, const char *label,
     else
         fprintf(f, "  energy drift max |E + W - E0| = %.3g (energy scale "
                 "zero: no relative drift)\n", r->drift);
-    if (nconstraints > 0)
+    if (nconstraints > 0) {
         fprintf(f, "  constraint residual max |phi| = %.3g, max |C qd| = "
                 "%.3g, projections %ld\n",
                 fmax(r->phi_max, st->max_residual), r->phidot_max,
                 st->projections);
-    else
+        fprintf(f, "  constraint system: smallest rcond %.3g, %ld SVD "
+                "solve%s%s\n", st->min_rcond_S, st->svd_solves,
+                st->svd_solves == 1 ? "" : "s",
+                st->svd_solves ? " (redundant constraints or a near-singular "
+                                 "configuration)" : "");
+    } else {
         fprintf(f, "  constraint residual: none (no constraints)\n");
+    }
 }

@@ -142,6 +142,9 @@ struct eom_system {
     bool S_pinv;      /* the last factorization is the pseudo-inverse */
     int S_rank;       /* directions it keeps */
     double S_mu;      /* its filter parameter */
+    double rcond_S_min; /* smallest rcond_S since the last reset (an
+                           integrator resets it when it starts) */
+    long n_svd;       /* factorizations that took the SVD path */
     double *Sa, *Su, *Svt, *Ssv, *Swork;
     int Slwork;
 };

@@ -204,6 +204,8 @@ int eom_integ_new(eom_integ **out, eom_system *s, const eom_opts *o,
         return EOM_ERR_NOMEM;
     }
     memcpy(it->y, x0, 2 * (size_t)s->n * sizeof(double));
+    s->rcond_S_min = 1.0;
+    it->svd_base = s->n_svd;
     rc = it->ops->init(it);
     if (rc != EOM_OK) {
         eom__fail(s, rc, "%s: %s", it->ops->name, it->msg);
@@ -266,6 +268,8 @@ int eom_integ_stats(const eom_integ *it, eom_stats *st)
     if (!it || !st)
         return EOM_ERR_NULL;
     *st = it->st;
+    st->min_rcond_S = it->s->rcond_S_min;
+    st->svd_solves = it->s->n_svd - it->svd_base;
     it->ops->stats(it, st);
     return EOM_OK;
 }

@@ -39,6 +39,7 @@ struct eom_integ {
     const eom_integ_ops *ops;
     void *impl;
     double *atolv;  /* [2n] per-component atol (o.atol_vec), or NULL */
+    long svd_base;  /* the system's SVD count when this integrator began */
     char erk_table[EOM_TABLE_NAME_LEN]; /* o.erk_table, or "" */
 };
 

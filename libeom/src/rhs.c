@@ -178,6 +178,7 @@ static int factor_S_pinv(eom_system *s)
                          "has no nonzero singular value");
     s->S_rank = k;
     s->S_pinv = true;
+    s->n_svd++;
     return EOM_OK;
 }
 
@@ -217,6 +218,8 @@ int eom__factor_S(eom_system *s)
                          s->kc.status);
     if (rc != EOM_OK)
         s->rcond_S = 0.0;
+    if (s->rcond_S < s->rcond_S_min)
+        s->rcond_S_min = s->rcond_S;
     if (rc != EOM_OK || s->rcond_S < EOM_RCOND_PINV)
         return factor_S_pinv(s);
     return EOM_OK;

@@ -500,6 +500,7 @@ int eom_system_new(eom_system **out, const eom_model *m, char *errmsg,
     s->has_R = m->R.n > 0;
     s->has_Q = m->Q.set;
     s->rcond_S = 1.0;
+    s->rcond_S_min = 1.0;
     s->coords = copy_named(m->coords, s->n);
     s->params = copy_named(m->params, s->np);
     s->probes = copy_named(m->probes, s->nprobe);

@@ -376,6 +376,9 @@ static void case_csv(void)
         CHECK(drift > 0.0 && phid > 0.0);
         CHECK_REL(number_after(r.err, "max |E + W - E0| = "), drift, 5e-3);
         CHECK_REL(number_after(r.err, "max |C qd| = "), phid, 5e-3);
+        /* a regular closed chain: no SVD solve, a sound condition */
+        CHECK(number_after(r.err, "smallest rcond ") > 1e-3);
+        CHECK_HAS(r.err, ", 0 SVD solves");
         summ = number_after(r.err, "max |phi| = ");
         CHECK(summ >= phi * (1.0 - 5e-3) && summ <= 1e-12);
         free(c.v);

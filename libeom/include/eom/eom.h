@@ -356,6 +356,14 @@ typedef struct eom_stats {
     long projections;    /* projections applied */
     double wall_time;    /* seconds spent in eom_integ_advance */
     double max_residual; /* largest |phi| seen after a step */
+    /* the health of the constraint solve, without failing the run: */
+    double min_rcond_S;  /* smallest reciprocal condition estimate of
+                            C M^-1 C^T met by an evaluation (KLU's pivot
+                            estimate, 0 where KLU could not factor it; 1
+                            without constraints) */
+    long svd_solves;     /* evaluations whose multipliers came from the
+                            filtered SVD (redundant constraints, or near a
+                            singular configuration: docs/theory.md) */
 } eom_stats;
 
 typedef struct eom_integ eom_integ;
