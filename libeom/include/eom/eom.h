@@ -59,7 +59,9 @@ extern "C" {
     X(EOM_ERR_SOLVER, -11, "the integrator failed (the message names the "     \
                            "solver's flag)")                                   \
     X(EOM_ERR_LINALG, -12, "a linear-algebra routine failed")                  \
-    X(EOM_ERR_NOT_CONVERGED, -13, "an iteration did not converge")
+    X(EOM_ERR_NOT_CONVERGED, -13, "an iteration did not converge")            \
+    X(EOM_ERR_FILE, -14, "a model file cannot be read or is not valid (the "   \
+                         "message gives file:line:col)")
 
 typedef enum eom_status {
 #define EOM_STATUS_ENUM_(name, value, text) name = value,

@@ -1,0 +1,663 @@
+/* build.c - the eom_model of a parsed file for one set of structural
+ * settings: families expanded into numbered coordinates and parameters
+ * (theta[3] is theta3, q[2,1] is q2_1), one callback per energy, force
+ * block, constraint family and probe, all recording through emit.c. Before
+ * the model is handed out every callback is run once, so that an index
+ * out of range, a recurrence without its base case or a cycle is reported
+ * with its place in the file, and the mass matrix is checked for a rate
+ * that T does not depend on. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "eom_internal.h"
+#include "lang.h"
+
+typedef struct lang_cb {
+    lang_inst *in;
+    int sym;  /* constraint or probe symbol, or -1 */
+    int stmt; /* energy statement, or -1 */
+    int flat; /* probe: member of the family */
+} lang_cb;
+
+static void inst_free(void *v)
+{
+    lang_inst *in = v;
+    int k;
+    if (!in)
+        return;
+    for (k = 0; k < in->nparams; k++)
+        free(in->pname[k]);
+    free(in->pname);
+    free(in->setting);
+    free(in->fam);
+    free(in->ival);
+    free(in->ival_set);
+    free(in->memo);
+    free(in->pmemo);
+    free(in->pmemo_epoch);
+    free(in->cbs);
+    lang_prog_release(in->p);
+    free(in);
+}
+
+/* ---- families ------------------------------------------------------------- */
+
+/* Evaluate the ranges of a declared family. */
+static int family_ranges(lang_inst *in, int s)
+{
+    const sym *y = &in->p->syms[s];
+    family *f = &in->fam[s];
+    long size = 1;
+    int k;
+    lang_begin(in, NULL, EOM_ROLE_STATE, "the range of a declared family");
+    for (k = 0; k < y->nidx; k++) {
+        long lo, hi;
+        if (lang_eval_int(in, y->idx[k].lo, "the start of a range", &lo) < 0 ||
+            lang_eval_int(in, y->idx[k].hi, "the end of a range", &hi) < 0)
+            return -1;
+        if (lo < 0 && (y->kind == S_PARAM || y->kind == S_COORD ||
+                       y->kind == S_PROBE)) {
+            lang_fail(in, y->idx[k].tok,
+                      "the members are named after their indices (theta1, "
+                      "q2_1): start at 0 or 1",
+                      "the indices of %s start at %ld", y->name, lo);
+            return -1;
+        }
+        f->lo[k] = (int)lo;
+        f->cnt[k] = hi >= lo ? (int)(hi - lo + 1 > LANG_MAX_COUNT
+                                         ? LANG_MAX_COUNT + 1
+                                         : hi - lo + 1)
+                             : 0;
+        size *= f->cnt[k];
+        if (size > LANG_MAX_COUNT) {
+            lang_fail(in, y->tok, NULL,
+                      "%s has more than %d members", y->name,
+                      LANG_MAX_COUNT);
+            return -1;
+        }
+    }
+    f->size = (int)size;
+    return 0;
+}
+
+/* Bind the index variables of family s to member flat; idx receives the
+ * index values. */
+static void bind_member(lang_inst *in, int s, int flat, long *idx)
+{
+    const sym *y = &in->p->syms[s];
+    const family *f = &in->fam[s];
+    int k;
+    for (k = y->nidx - 1; k >= 0; k--) {
+        idx[k] = f->lo[k] + flat % f->cnt[k];
+        flat /= f->cnt[k];
+        in->ival[y->idx[k].var] = idx[k];
+        in->ival_set[y->idx[k].var] = 1;
+    }
+}
+
+static void unbind(lang_inst *in, int s)
+{
+    const sym *y = &in->p->syms[s];
+    int k;
+    for (k = 0; k < y->nidx; k++)
+        in->ival_set[y->idx[k].var] = 0;
+}
+
+/* theta + (3) -> theta3; q + (2, 1) -> q2_1; x1 + (2) -> x1_2 */
+static void member_name(const sym *y, const long *idx, char *buf, size_t len)
+{
+    size_t n;
+    int k, digit_end;
+    snprintf(buf, len, "%s", y->name);
+    n = strlen(buf);
+    digit_end = n > 0 && buf[n - 1] >= '0' && buf[n - 1] <= '9';
+    for (k = 0; k < y->nidx; k++) {
+        n = strlen(buf);
+        snprintf(buf + n, len - n, "%s%ld", k > 0 || digit_end ? "_" : "",
+                 idx[k]);
+    }
+}
+
+static int const_value(lang_inst *in, int nd, const char *what,
+                       const char *name, double *out)
+{
+    lval v;
+    if (nd < 0) {
+        *out = 0.0;
+        return 0;
+    }
+    lang_begin(in, NULL, EOM_ROLE_STATE, what);
+    if (lang_eval(in, nd, &v) < 0)
+        return -1;
+    if (!isfinite(v.c)) {
+        lang_fail(in, in->p->nodes[nd].tok, NULL, "%s of %s is %g", what,
+                  name, v.c);
+        return -1;
+    }
+    *out = v.c;
+    return 0;
+}
+
+static const char *desc_text(const lang_prog *p, const sym *y, char *buf,
+                             size_t len)
+{
+    const token *t;
+    if (y->desc_tok < 0)
+        return NULL;
+    t = &p->toks[y->desc_tok];
+    snprintf(buf, len, "%.*s", t->len - 2, p->text + t->off + 1);
+    return buf;
+}
+
+/* Coordinates and parameters, family by family in the order of the
+ * file. */
+static int declare(lang_inst *in, eom_model *m)
+{
+    const lang_prog *p = in->p;
+    int s, j, rc, np = 0;
+    char name[LANG_MAX_NAME + 48], desc[256], what[LANG_MAX_NAME + 64];
+    for (s = 0; s < p->nsyms; s++) {
+        const sym *y = &p->syms[s];
+        if (y->kind == S_SETTING || y->kind == S_DEF)
+            continue;
+        if (family_ranges(in, s) < 0)
+            return -1;
+        if (y->kind == S_PARAM)
+            np += in->fam[s].size;
+        if (np > LANG_MAX_COUNT) {
+            lang_fail(in, y->tok, NULL, "more than %d parameters",
+                      LANG_MAX_COUNT);
+            return -1;
+        }
+    }
+    in->pname = calloc((size_t)np + 1, sizeof *in->pname);
+    in->pmemo = calloc((size_t)np + 1, sizeof *in->pmemo);
+    in->pmemo_epoch = calloc((size_t)np + 1, sizeof *in->pmemo_epoch);
+    if (!in->pname || !in->pmemo || !in->pmemo_epoch)
+        goto nomem;
+    for (s = 0; s < p->nsyms; s++) {
+        const sym *y = &p->syms[s];
+        family *f = &in->fam[s];
+        if (y->kind != S_PARAM && y->kind != S_COORD)
+            continue;
+        f->first = y->kind == S_PARAM ? in->nparams : eom_model_ncoords(m);
+        for (j = 0; j < f->size; j++) {
+            long idx[LANG_MAX_IDX];
+            double v0, v1 = 0.0;
+            bind_member(in, s, j, idx);
+            member_name(y, idx, name, sizeof name);
+            snprintf(what, sizeof what, "the %s",
+                     y->kind == S_PARAM ? "default" : "initial value");
+            if (const_value(in, y->value, what, name, &v0) < 0)
+                return -1;
+            if (y->kind == S_COORD) {
+                if (const_value(in, y->rate, "the initial rate", name, &v1) <
+                    0)
+                    return -1;
+                rc = eom_model_add_coord(m, name, p->units_off && !y->unit[0]
+                                                      ? NULL
+                                                      : y->unit,
+                                         v0, v1);
+            } else {
+                rc = eom_model_add_param(m, name, y->unit[0] ? y->unit : NULL,
+                                         v0, desc_text(p, y, desc,
+                                                       sizeof desc));
+                if (rc >= 0 &&
+                    !(in->pname[in->nparams++] = lang_strdup(name)))
+                    goto nomem;
+            }
+            if (rc == EOM_ERR_NOMEM)
+                goto nomem;
+            if (rc < 0) {
+                lang_fail(in, y->tok,
+                          "members of a family are named NAME and their "
+                          "indices (theta1, q2_1): rename one of the two",
+                          "%s%s is already the name of another parameter "
+                          "or coordinate", name,
+                          y->nidx ? " (a member of this family)" : "");
+                return -1;
+            }
+        }
+        unbind(in, s);
+    }
+    in->ncoords = eom_model_ncoords(m);
+    return 0;
+nomem:
+    lang_fail(in, 0, NULL, "out of memory");
+    return -1;
+}
+
+/* ---- callbacks ------------------------------------------------------------- */
+
+static const char *stmt_what(int kind)
+{
+    switch (kind) {
+    case ST_T: return "the kinetic energy T";
+    case ST_V: return "the potential energy V";
+    case ST_L: return "the Lagrangian L";
+    case ST_R: return "the dissipation function R";
+    default: return "a force";
+    }
+}
+
+/* Report a failure to libeom as well (its message is shorter). */
+static int cb_fail(eom_ctx *c, lang_inst *in)
+{
+    if (c->status == EOM_OK) {
+        c->status = EOM_ERR_RECORD;
+        lang_copy(c->msg, sizeof c->msg, in->err);
+    }
+    return 1;
+}
+
+static int cb_energy(eom_ctx *c, void *user, tp_val *out)
+{
+    lang_cb *cb = user;
+    lang_inst *in = cb->in;
+    const energy_stmt *e = &in->p->stmts[cb->stmt];
+    lval v;
+    lang_begin(in, c, EOM_ROLE_STATE, stmt_what(e->kind));
+    if (lang_eval(in, e->body, &v) < 0)
+        return cb_fail(c, in);
+    *out = lang_tape(in, v);
+    return 0;
+}
+
+/* Run one force statement for every tuple of its binders from k on. */
+static int force_tuples(lang_inst *in, const energy_stmt *e, int k,
+                        tp_val *out)
+{
+    const lang_prog *p = in->p;
+    if (k == e->nidx) {
+        const node *t = &p->nodes[e->target];
+        long idx[LANG_MAX_IDX];
+        int j, flat;
+        lval v;
+        for (j = 0; j < t->nkids; j++)
+            if (lang_eval_int(in, p->kids[t->kids + j], "an index",
+                              &idx[j]) < 0)
+                return -1;
+        if ((flat = lang_family_index(in, t->sym, idx, t->tok)) < 0)
+            return -1;
+        flat += in->fam[t->sym].first;
+        if (lang_eval(in, e->body, &v) < 0)
+            return -1;
+        if (!(v.k && v.c == 0.0))
+            out[flat] = tp_add(in->r, out[flat], lang_tape(in, v));
+        return 0;
+    }
+    if (e->idx[k].var < 0) /* a fixed index: evaluated with the target */
+        return force_tuples(in, e, k + 1, out);
+    {
+        long lo, hi, i;
+        const int var = e->idx[k].var;
+        if (lang_eval_int(in, e->idx[k].lo, "the start of a range", &lo) < 0 ||
+            lang_eval_int(in, e->idx[k].hi, "the end of a range", &hi) < 0)
+            return -1;
+        for (i = lo; i <= hi; i++) {
+            in->ival[var] = i;
+            in->ival_set[var] = 1;
+            if (force_tuples(in, e, k + 1, out) < 0)
+                return -1;
+            if (--in->budget < 0) {
+                lang_fail(in, e->tok, NULL,
+                          "the model is too large: this force ranges over "
+                          "too many indices");
+                return -1;
+            }
+        }
+        in->ival_set[var] = 0;
+    }
+    return 0;
+}
+
+static int cb_forces(eom_ctx *c, void *user, tp_val *out)
+{
+    lang_cb *cb = user;
+    lang_inst *in = cb->in;
+    int k;
+    lang_begin(in, c, EOM_ROLE_FORCE, "a force");
+    for (k = 0; k < in->p->nstmts; k++)
+        if (in->p->stmts[k].kind == ST_FORCE &&
+            force_tuples(in, &in->p->stmts[k], 0, out) < 0)
+            return cb_fail(c, in);
+    return 0;
+}
+
+static int cb_constraint(eom_ctx *c, void *user, tp_val *out)
+{
+    lang_cb *cb = user;
+    lang_inst *in = cb->in;
+    const sym *y = &in->p->syms[cb->sym];
+    char what[LANG_MAX_NAME + 32];
+    int j;
+    snprintf(what, sizeof what, "the constraint %s", y->name);
+    lang_begin(in, c, EOM_ROLE_CONSTRAINT, what);
+    for (j = 0; j < in->fam[cb->sym].size; j++) {
+        long idx[LANG_MAX_IDX];
+        lval v;
+        bind_member(in, cb->sym, j, idx);
+        if (lang_eval(in, y->value, &v) < 0)
+            return cb_fail(c, in);
+        out[j] = lang_tape(in, v);
+    }
+    unbind(in, cb->sym);
+    return 0;
+}
+
+static int cb_probe(eom_ctx *c, void *user, tp_val *out)
+{
+    lang_cb *cb = user;
+    lang_inst *in = cb->in;
+    const sym *y = &in->p->syms[cb->sym];
+    char what[LANG_MAX_NAME + 32];
+    long idx[LANG_MAX_IDX];
+    lval v;
+    snprintf(what, sizeof what, "the probe %s", y->name);
+    lang_begin(in, c, EOM_ROLE_STATE, what);
+    bind_member(in, cb->sym, cb->flat, idx);
+    if (lang_eval(in, y->value, &v) < 0)
+        return cb_fail(c, in);
+    unbind(in, cb->sym);
+    *out = lang_tape(in, v);
+    return 0;
+}
+
+static lang_cb *new_cb(lang_inst *in, int s, int stmt, int flat)
+{
+    lang_cb *cb = &in->cbs[in->ncbs++];
+    cb->in = in;
+    cb->sym = s;
+    cb->stmt = stmt;
+    cb->flat = flat;
+    return cb;
+}
+
+static int add_callbacks(lang_inst *in, eom_model *m)
+{
+    const lang_prog *p = in->p;
+    int k, j, rc = 0, nforce = 0, ncb = 1;
+    char name[LANG_MAX_NAME + 48];
+    for (k = 0; k < p->nstmts; k++)
+        ncb++;
+    for (k = 0; k < p->nsyms; k++)
+        if (p->syms[k].kind == S_PROBE)
+            ncb += in->fam[k].size;
+        else if (p->syms[k].kind == S_CONSTRAINT)
+            ncb++;
+    in->cbs = calloc((size_t)ncb, sizeof *in->cbs);
+    if (!in->cbs) {
+        lang_fail(in, 0, NULL, "out of memory");
+        return -1;
+    }
+    for (k = 0; k < p->nstmts && rc >= 0; k++) {
+        const energy_stmt *e = &p->stmts[k];
+        switch (e->kind) {
+        case ST_T:
+            rc = eom_model_add_kinetic(m, cb_energy, new_cb(in, -1, k, 0));
+            break;
+        case ST_V:
+            rc = eom_model_add_potential(m, cb_energy, new_cb(in, -1, k, 0));
+            break;
+        case ST_L:
+            rc = eom_model_set_lagrangian(m, cb_energy,
+                                          new_cb(in, -1, k, 0));
+            break;
+        case ST_R:
+            rc = eom_model_add_dissipation(m, cb_energy,
+                                           new_cb(in, -1, k, 0));
+            break;
+        default: nforce++; break;
+        }
+    }
+    if (rc >= 0 && nforce > 0)
+        rc = eom_model_set_forces(m, cb_forces, new_cb(in, -1, -1, 0));
+    for (k = 0; k < p->nsyms && rc >= 0; k++) {
+        const sym *y = &p->syms[k];
+        if (y->kind == S_CONSTRAINT && in->fam[k].size > 0)
+            rc = eom_model_add_constraints(m, in->fam[k].size, cb_constraint,
+                                           new_cb(in, k, -1, 0));
+        if (y->kind != S_PROBE)
+            continue;
+        for (j = 0; j < in->fam[k].size && rc >= 0; j++) {
+            long idx[LANG_MAX_IDX];
+            bind_member(in, k, j, idx);
+            member_name(y, idx, name, sizeof name);
+            rc = eom_model_add_probe(m, name, y->unit[0] ? y->unit : NULL,
+                                     cb_probe, new_cb(in, k, -1, j));
+        }
+        unbind(in, k);
+    }
+    if (rc < 0) {
+        lang_fail(in, 0, NULL, "%s", eom_model_errmsg(m)[0]
+                                         ? eom_model_errmsg(m)
+                                         : eom_strerror(rc));
+        return -1;
+    }
+    return 0;
+}
+
+/* ---- checks before the model is handed out ---------------------------------- */
+
+typedef struct check_arg {
+    eom_ctx *c;
+    lang_inst *in;
+    int which; /* 0 R, 1 forces, 2 constraint (cb), 3 probe (cb) */
+    lang_cb *cb;
+    tp_val *out;
+} check_arg;
+
+static int check_body(tp_rec *r, void *user)
+{
+    check_arg *a = user;
+    tp_val one;
+    int k;
+    (void)r;
+    switch (a->which) {
+    case 0: return cb_energy(a->c, a->cb, &one);
+    case 1:
+        for (k = 0; k < a->c->n; k++)
+            a->out[k] = tp_const(a->c->r, 0.0);
+        return cb_forces(a->c, a->cb, a->out);
+    case 2: return cb_constraint(a->c, a->cb, a->out);
+    default: return cb_probe(a->c, a->cb, &one);
+    }
+}
+
+/* Run every callback but T, V, L once on the double evaluator at x. */
+static int run_others(lang_inst *in, const eom_model *m, const double *x)
+{
+    const int n = m->n_coords;
+    eom_ctx c;
+    tp_rec *r = NULL;
+    tp_val *out = NULL;
+    int k, rc = 0, most = n;
+    for (k = 0; k < in->ncbs; k++)
+        if (in->cbs[k].sym >= 0 &&
+            in->p->syms[in->cbs[k].sym].kind == S_CONSTRAINT &&
+            in->fam[in->cbs[k].sym].size > most)
+            most = in->fam[in->cbs[k].sym].size;
+    if (tp_evaluator_new(&r, 2 * n + 1, NULL) != TP_OK ||
+        !(out = calloc((size_t)most + 1, sizeof *out))) {
+        tp_rec_free(&r);
+        lang_fail(in, 0, NULL, "out of memory");
+        return -1;
+    }
+    for (k = 0; k < in->ncbs && rc == 0; k++) {
+        lang_cb *cb = &in->cbs[k];
+        check_arg a;
+        memset(&c, 0, sizeof c);
+        c.r = r;
+        c.m = m;
+        c.n = n;
+        a.c = &c;
+        a.in = in;
+        a.cb = cb;
+        a.out = out;
+        if (cb->stmt >= 0) {
+            int kind = in->p->stmts[cb->stmt].kind;
+            if (kind != ST_R)
+                continue;
+            a.which = 0;
+            c.role = EOM_ROLE_STATE;
+        } else if (cb->sym < 0) {
+            a.which = 1;
+            c.role = EOM_ROLE_FORCE;
+        } else if (in->p->syms[cb->sym].kind == S_CONSTRAINT) {
+            a.which = 2;
+            c.role = EOM_ROLE_CONSTRAINT;
+        } else {
+            a.which = 3;
+            c.role = EOM_ROLE_STATE;
+        }
+        if (tp_rec_run(r, x, check_body, &a) != TP_OK && !in->failed)
+            lang_fail(in, 0, NULL, "%s",
+                      c.msg[0] ? c.msg : tp_rec_errmsg(r));
+        rc = in->failed ? -1 : 0;
+    }
+    free(out);
+    tp_rec_free(&r);
+    return rc;
+}
+
+/* T (or L) recorded alone; a coordinate whose column of the mass matrix
+ * vanishes at two unrelated states has a rate T does not depend on. */
+static int check_mass(lang_inst *in, const eom_model *m, const double *x0)
+{
+    const int n = m->n_coords;
+    unsigned char *group = malloc(2 * (size_t)n);
+    double *x = malloc(2 * (size_t)n * sizeof *x);
+    double *M = malloc((size_t)n * (size_t)n * sizeof *M);
+    double *zero = calloc((size_t)n, sizeof *zero);
+    tp_rec *r = NULL;
+    tp_tape *t = NULL;
+    tp_ws *ws = NULL;
+    int rc = -1, k, i, pass;
+    if (!group || !x || !M || !zero) {
+        lang_fail(in, 0, NULL, "out of memory");
+        goto done;
+    }
+    for (k = 0; k < 2 * n; k++)
+        group[k] = (unsigned char)(k < n ? 0 : 1);
+    if (tp_recorder_new(&r, 2 * n, group, NULL) != TP_OK) {
+        lang_fail(in, 0, NULL, "out of memory");
+        goto done;
+    }
+    k = eom_model_run_lagrangian(m, r, NULL);
+    if (k != EOM_OK) {
+        if (!in->failed)
+            lang_fail(in, 0, NULL, "recording the Lagrangian: %s",
+                      eom_strerror(k));
+        goto done;
+    }
+    if (tp_recorder_finish(r, &t) != TP_OK ||
+        tp_ws_new(&ws, t, n < 32 ? n : 32, NULL) != TP_OK) {
+        lang_fail(in, 0, NULL, "recording the Lagrangian: %s",
+                  tp_rec_errmsg(r));
+        goto done;
+    }
+    for (i = 0; i < n; i++)
+        zero[i] = 1.0;
+    for (pass = 0; pass < 2; pass++) {
+        for (k = 0; k < 2 * n; k++)
+            x[k] = x0[k] + (pass ? 0.137 + 0.071 * (k % 11) : 0.0);
+        /* a non-finite value is a question for the run, not for here */
+        if (tp_lagrange(ws, x, 0, NULL, NULL, M, NULL) < 0) {
+            lang_fail(in, 0, NULL, "evaluating the Lagrangian: %s",
+                      tp_ws_errmsg(ws));
+            goto done;
+        }
+        for (i = 0; i < n; i++)
+            for (k = 0; k < n; k++)
+                if (M[(size_t)i * n + k] != 0.0)
+                    zero[i] = 0.0;
+    }
+    for (i = 0; i < n; i++)
+        if (zero[i] != 0.0) {
+            int st;
+            char hint[300];
+            for (st = 0; st < in->p->nstmts; st++)
+                if (in->p->stmts[st].kind == ST_T ||
+                    in->p->stmts[st].kind == ST_L)
+                    break;
+            snprintf(hint, sizeof hint,
+                     "every coordinate needs inertia: add its kinetic "
+                     "energy, such as 1/2*m*%s_dot^2", m->coords[i].name);
+            lang_fail(in, in->p->stmts[st].tok, hint,
+                      "%s does not depend on %s_dot: the mass matrix would "
+                      "be singular",
+                      in->p->stmts[st].kind == ST_T ? "T" : "L",
+                      m->coords[i].name);
+            goto done;
+        }
+    rc = 0;
+done:
+    tp_ws_free(&ws);
+    tp_tape_free(&t);
+    tp_rec_free(&r);
+    free(group);
+    free(x);
+    free(M);
+    free(zero);
+    return rc;
+}
+
+/* ---- the build ---------------------------------------------------------------- */
+
+int lang_build(lang_prog *p, const double *setting, eom_model **out,
+               char *err, size_t len);
+int lang_build(lang_prog *p, const double *setting, eom_model **out,
+               char *err, size_t len)
+{
+    lang_inst *in = calloc(1, sizeof *in);
+    eom_model *m = NULL;
+    double *x0 = NULL;
+    int rc;
+    *out = NULL;
+    if (!in || eom_model_new(&m) != EOM_OK) {
+        free(in);
+        snprintf(err, len, "out of memory");
+        return EOM_ERR_NOMEM;
+    }
+    in->p = p;
+    p->refs++;
+    in->setting = calloc((size_t)p->nsyms + 1, sizeof *in->setting);
+    in->fam = calloc((size_t)p->nsyms + 1, sizeof *in->fam);
+    in->ival = calloc((size_t)p->nvars + 1, sizeof *in->ival);
+    in->ival_set = calloc((size_t)p->nvars + 1, 1);
+    if (!in->setting || !in->fam || !in->ival || !in->ival_set ||
+        eom_model_attach(m, in, inst_free) != EOM_OK) {
+        eom_model_free(&m);
+        snprintf(err, len, "out of memory");
+        return EOM_ERR_NOMEM;
+    }
+    memcpy(in->setting, setting, (size_t)p->nsyms * sizeof *setting);
+    rc = declare(in, m) == 0 && add_callbacks(in, m) == 0 ? 0 : -1;
+    if (rc == 0) {
+        const int n = eom_model_ncoords(m);
+        x0 = malloc(2 * (size_t)n * sizeof *x0 + 1);
+        if (!x0) {
+            lang_fail(in, 0, NULL, "out of memory");
+            rc = -1;
+        } else {
+            int k;
+            for (k = 0; k < n; k++) {
+                x0[k] = m->coords[k].v0;
+                x0[n + k] = m->coords[k].v1;
+            }
+            rc = check_mass(in, m, x0) == 0 && run_others(in, m, x0) == 0
+                     ? 0
+                     : -1;
+        }
+    }
+    free(x0);
+    if (rc != 0) {
+        lang_copy(err, len, in->err);
+        eom_model_free(&m);
+        return EOM_ERR_FILE;
+    }
+    *out = m;
+    return EOM_OK;
+}

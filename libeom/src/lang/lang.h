@@ -1,0 +1,345 @@
+/* lang.h - internal structures of the model-file language (docs/models.md).
+ *
+ * A file goes through four stages, one file each:
+ *   lexer.c    text -> tokens (with line, column and spacing)
+ *   parser.c   tokens -> declarations, definitions and an expression pool
+ *   resolve.c  names -> symbols, index variables bound, arities checked,
+ *              nearest-name suggestions
+ *   units.c    unit strings and the dimension of every expression
+ * and then, per set of structural settings:
+ *   build.c    the eom_model: coordinates, parameters and callbacks
+ *   emit.c     an expression recorded onto the tape (tp_* calls), with
+ *              definitions memoized per recording
+ * diag.c formats every message as file:line:col, the line and a caret.
+ *
+ * The expression pool is only walked while recording: a replay of the
+ * tapes never sees it.
+ */
+#ifndef EOM_LANG_H
+#define EOM_LANG_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "eom/eom.h"
+
+/* Documented limits (docs/models.md, "Limits"). */
+#define LANG_MAX_FILE (1L << 20)  /* bytes of a file */
+#define LANG_MAX_NEST 200         /* nesting of parentheses and operators */
+#define LANG_MAX_NAME 64          /* characters of a name */
+#define LANG_MAX_IDX 4            /* indices of a family */
+#define LANG_MAX_DEPTH 5000       /* definitions evaluated inside another */
+#define LANG_MAX_COUNT 100000     /* coordinates, parameters, probes,
+                                     constraints or forces of one model */
+#define LANG_MAX_SETTING 100000   /* largest value of a setting */
+#define LANG_BUDGET 20000000L     /* expression nodes walked per recording
+                                     (no input makes the loader hang) */
+
+/* ---- tokens ------------------------------------------------------------ */
+
+typedef enum tok_kind {
+    TK_EOF,
+    TK_NL,
+    TK_NUM,
+    TK_ID,
+    TK_STR,
+    TK_PLUS,
+    TK_MINUS,
+    TK_STAR,
+    TK_SLASH,
+    TK_CARET,
+    TK_LPAR,
+    TK_RPAR,
+    TK_LBRK,
+    TK_RBRK,
+    TK_COMMA,
+    TK_ASSIGN,
+    TK_DOTDOT,
+    TK_EQ,
+    TK_NE,
+    TK_LT,
+    TK_LE,
+    TK_GT,
+    TK_GE
+} tok_kind;
+
+typedef struct token {
+    uint8_t kind;
+    uint8_t space_before; /* whitespace (or line start) right before it */
+    int32_t line, col;    /* 1-based; col counts bytes */
+    int32_t off, len;     /* in the source text */
+    double num;           /* TK_NUM */
+} token;
+
+/* ---- expressions --------------------------------------------------------- */
+
+typedef enum node_kind {
+    N_NUM,   /* num */
+    N_NAME,  /* a name, possibly indexed: kids = index expressions */
+    N_NEG,   /* -a */
+    N_BIN,   /* a op b (op: a tok_kind of + - * / ^ or a comparison) */
+    N_CALL,  /* function op (a lang_fn), kids = arguments */
+    N_SUM,   /* sum(var in a..b, body): kids = {a, b, body} */
+    N_IF     /* if(cond, a, b): kids = {cond, a, b} */
+} node_kind;
+
+/* What a resolved name refers to. */
+typedef enum ref_kind {
+    R_NONE,
+    R_SETTING,
+    R_PARAM,
+    R_COORD,
+    R_RATE,
+    R_DEF,
+    R_IVAR, /* an index variable */
+    R_PI,
+    R_TIME
+} ref_kind;
+
+typedef struct node {
+    uint8_t kind;
+    uint8_t op;
+    uint8_t ref;    /* ref_kind, for N_NAME */
+    uint8_t nkids;
+    int32_t tok;    /* token that places it in the file */
+    int32_t kids;   /* first index in prog.kids */
+    int32_t sym;    /* N_NAME: symbol (or index variable) */
+    int32_t var;    /* N_SUM: its index variable */
+    double num;
+} node;
+
+/* Built-in functions (N_CALL op). */
+typedef enum lang_fn {
+    F_SQRT, F_EXP, F_LOG, F_SIN, F_COS, F_TAN, F_ASIN, F_ACOS, F_ATAN,
+    F_SINH, F_COSH, F_TANH, F_ABS, F_SQR, F_ATAN2, F_HYPOT, F_COUNT
+} lang_fn;
+
+typedef struct fn_info {
+    const char *name;
+    int arity;
+} fn_info;
+extern const fn_info lang_fns[F_COUNT];
+
+/* ---- dimensions ---------------------------------------------------------- */
+
+/* Exponents of kg, m, s, A, K, doubled (so sqrt of m^2 is exact). any:
+ * a plain number, which takes the dimension of what it meets. */
+#define DIM_N 5
+typedef struct dim {
+    int8_t e[DIM_N];
+    uint8_t any;
+} dim;
+
+/* ---- declarations --------------------------------------------------------- */
+
+/* One index of a family's declaration or of a definition clause: either
+ * a range "var in lo..hi" or a fixed index expression "fixed". */
+typedef struct binder {
+    int32_t var;    /* index variable, or -1 for a fixed index */
+    int32_t lo, hi; /* range nodes (var >= 0) */
+    int32_t fixed;  /* node (var < 0) */
+    int32_t tok;
+} binder;
+
+typedef enum sym_kind {
+    S_SETTING,
+    S_PARAM,
+    S_COORD,
+    S_DEF,
+    S_PROBE,
+    S_CONSTRAINT
+} sym_kind;
+
+/* A declared name. Settings, parameters, coordinates and definitions
+ * share one namespace; probes and constraints have their own (they name
+ * outputs and cannot be used in expressions). */
+typedef struct sym {
+    uint8_t kind;
+    uint8_t nidx;          /* 0: a scalar; else a family */
+    int32_t tok;           /* the name's token in its first declaration */
+    char name[LANG_MAX_NAME + 1];
+    binder idx[LANG_MAX_IDX]; /* families of params, coords, probes,
+                                 constraints: their ranges */
+    int32_t value;         /* default / initial value node (-1: 0) */
+    int32_t rate;          /* coord: initial rate node (-1: 0) */
+    int32_t unit_tok;      /* token of '[' of the unit, or -1 */
+    char unit[64];         /* the unit as written ("" when none) */
+    dim unit_dim;
+    int32_t desc_tok;      /* TK_STR of the description, or -1 */
+    int32_t lo, hi;        /* settings: allowed range */
+    int32_t first_clause;  /* definitions: clauses in prog.clauses ... */
+    int32_t nclauses;      /* ... in a chain through clause.next */
+    int32_t last_clause;
+    dim d;                 /* definitions: dimension (units.c) */
+    uint8_t dim_state;     /* 0 not computed, 1 in progress, 2 done */
+} sym;
+
+/* One defining equation of a definition: NAME[binders] = body. */
+typedef struct clause {
+    int32_t sym;
+    uint8_t nidx;
+    int32_t body;
+    int32_t tok;
+    int32_t next;
+    binder idx[LANG_MAX_IDX];
+} clause;
+
+/* T, V, L, R, a force or a probe/constraint body: an expression that
+ * becomes an output. */
+typedef enum stmt_kind { ST_T, ST_V, ST_L, ST_R, ST_FORCE } stmt_kind;
+
+typedef struct energy_stmt {
+    uint8_t kind;
+    int32_t tok;
+    int32_t body;
+    /* forces: the coordinate it acts on, as a name node (maybe indexed)
+     * and the binders that range over it */
+    int32_t target;
+    uint8_t nidx;
+    binder idx[LANG_MAX_IDX];
+} energy_stmt;
+
+/* ---- the parsed program --------------------------------------------------- */
+
+typedef struct lang_prog {
+    int refs;             /* shared by the file handle and built models */
+    char *path;           /* as given, for messages */
+    char *text;           /* the source (NUL-terminated) */
+    long text_len;
+    token *toks;
+    int ntoks;
+    node *nodes;
+    int nnodes, cap_nodes;
+    int32_t *kids;
+    int nkids, cap_kids;
+    sym *syms;
+    int nsyms, cap_syms;
+    clause *clauses;
+    int nclauses, cap_clauses;
+    energy_stmt *stmts;
+    int nstmts, cap_stmts;
+    int nvars, cap_vars;  /* index variables */
+    int32_t *var_tok;     /* [nvars] where each is bound */
+    int units_off;        /* "units off" */
+    int32_t units_off_tok;
+} lang_prog;
+
+/* A message about the file: "path:line:col: text", the source line and
+ * a caret under col; hint (may be NULL) is added as a last line. Writes
+ * at most len bytes to out. */
+void lang_diag(const lang_prog *p, int tok, char *out, size_t len,
+               const char *hint, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 6, 7)))
+#endif
+    ;
+/* The same at a line and column (lexer errors, before tokens exist). */
+void lang_diag_at(const lang_prog *p, int line, int col, char *out,
+                  size_t len, const char *hint, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 7, 8)))
+#endif
+    ;
+
+/* The text of token t as a NUL-terminated copy in buf (truncated). */
+const char *lang_tok_text(const lang_prog *p, int t, char *buf, size_t len);
+
+/* Edit distance of a and b, capped at cap + 1. */
+int lang_edit_distance(const char *a, const char *b, int cap);
+
+/* Stages; each returns 0, or -1 with a message in err. */
+int lang_lex(lang_prog *p, char *err, size_t len);
+int lang_parse(lang_prog *p, char *err, size_t len);
+int lang_resolve(lang_prog *p, char *err, size_t len);
+int lang_units(lang_prog *p, char *err, size_t len);
+
+/* Units: parse a unit string (as written between brackets). Returns 0, or
+ * -1 with the offending symbol copied to bad. */
+int lang_unit_parse(const char *text, dim *d, char *bad, size_t badlen);
+/* The dimension written in base units ("kg m^2 s^-2"; "1" when none). */
+void lang_dim_format(dim d, char *buf, size_t len);
+int lang_dim_equal(dim a, dim b);
+
+/* Growable arrays. Return 0, or -1 when out of memory or beyond limit. */
+int lang_grow(void **v, int *cap, int need, size_t elem, int limit);
+
+void lang_prog_release(lang_prog *p);
+
+/* A malloc'd copy of s (NULL when out of memory). */
+char *lang_strdup(const char *s);
+/* Copy src into dst (len bytes), truncated when it does not fit. */
+void lang_copy(char *dst, size_t len, const char *src);
+
+/* ---- one build: the model for fixed settings ------------------------------ */
+
+/* A value while recording: a constant known when the file is read (k =
+ * 1, value c), or a value on the tape (v). */
+typedef struct lval {
+    double c;
+    tp_val v;
+    int k;
+} lval;
+
+typedef struct memo_entry {
+    int32_t sym; /* -1: empty */
+    int32_t idx[LANG_MAX_IDX];
+    uint32_t epoch;
+    uint8_t state; /* 1 being evaluated, 2 done */
+    lval val;
+} memo_entry;
+
+/* What a declared family became: its index ranges and the model index of
+ * its first member (coordinates, parameters). */
+typedef struct family {
+    int lo[LANG_MAX_IDX], cnt[LANG_MAX_IDX];
+    int size;
+    int first;
+} family;
+
+typedef struct lang_inst {
+    lang_prog *p;           /* a reference (released with the inst) */
+    double *setting;        /* [nsyms]: value of each setting symbol */
+    family *fam;            /* [nsyms]: params, coords, probes, constraints */
+    char **pname;           /* [nparams] generated parameter names */
+    int nparams, ncoords;
+    long *ival;             /* [nvars] index variables' values */
+    uint8_t *ival_set;      /* [nvars] */
+    memo_entry *memo;
+    unsigned memo_mask, memo_used;
+    uint32_t epoch;
+    lval *pmemo;            /* [nparams] parameter values this recording */
+    uint32_t *pmemo_epoch;
+    /* the recording in progress (r == NULL: constants only) */
+    eom_ctx *ctx;
+    tp_rec *r;
+    int role;               /* an eom_role */
+    const char *what;       /* "the kinetic energy T", for messages */
+    long budget;
+    int depth;
+    int failed;
+    char err[2048];
+    /* callback arguments, owned here */
+    struct lang_cb *cbs;
+    int ncbs;
+} lang_inst;
+
+/* Evaluate node n (in constants-only mode when inst->r is NULL). Returns
+ * 0, or -1 with inst->failed set and the message in inst->err. */
+int lang_eval(lang_inst *in, int n, lval *out);
+/* A constant, integral value of node n (an index, a range end). */
+int lang_eval_int(lang_inst *in, int n, const char *what, long *out);
+/* v on the tape (a constant becomes tp_const). */
+tp_val lang_tape(lang_inst *in, lval v);
+/* Start a recording on ctx (NULL: constants only): clears the memo. */
+void lang_begin(lang_inst *in, eom_ctx *ctx, int role, const char *what);
+/* The flat index of a family member from its index values, or -1 with a
+ * message at tok. */
+int lang_family_index(lang_inst *in, int sym, const long *idx, int tok);
+void lang_fail(lang_inst *in, int tok, const char *hint, const char *fmt,
+               ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 4, 5)))
+#endif
+    ;
+
+#endif /* EOM_LANG_H */
