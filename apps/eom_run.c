@@ -1,4 +1,5 @@
-/* eom_run.c - eom-run, the scene runner: pick a demo, override its
+/* eom_run.c - eom-run, the scene runner: pick a demo or a model file
+ * (.eom, docs/models.md), override its
  * settings, parameters and initial state by name, integrate it with any
  * of libeom's methods and write the trajectory as CSV (docs/cli.md,
  * docs/csv.md), optionally with plots beside it (--plots), or print its
@@ -20,6 +21,7 @@
 
 #include "csv_writer.h"
 #include "demos/demos.h"
+#include "demos/file_demo.h"
 #include "describe.h"
 #include "eom/eom.h"
 #include "modes_report.h"
@@ -92,17 +94,20 @@ static void usage_line(FILE *f)
     fprintf(f, "usage: eom-run --list\n"
                "       eom-run DEMO --describe [--set NAME=VALUE]...\n"
                "       eom-run DEMO --modes [--set NAME=VALUE]...\n"
-               "       eom-run DEMO [OPTION]...\n");
+               "       eom-run DEMO [OPTION]...\n"
+               "DEMO is a demo or shipped model by name, or a model file "
+               "PATH.eom.\n");
 }
 
 static void help(void)
 {
     usage_line(stdout);
     printf(
-        "\nIntegrate a demo's equations of motion and write the trajectory "
-        "as CSV.\n\n"
+        "\nIntegrate a demo's or a model file's equations of motion and "
+        "write the\ntrajectory as CSV.\n\n"
         "  -h, --help            show this help and exit\n"
-        "      --list            list the demos and exit\n"
+        "      --list            list the demos and shipped model files, "
+        "and exit\n"
         "      --describe        list the demo's settings, parameters and "
         "coordinates\n"
         "                        with defaults and units, and exit\n"
@@ -157,7 +162,7 @@ static void help(void)
         "2 the command line is wrong.\n"
         "\nExample: eom-run spring-pendulum --set k=100 --set theta_dot=0.3 "
         "--t-end 5 --out sp.csv\n"
-        "See docs/cli.md, docs/csv.md and docs/demos.md.\n");
+        "See docs/cli.md, docs/csv.md, docs/demos.md and docs/models.md.\n");
 }
 
 static int usage_error(const char *fmt, ...)
@@ -334,11 +339,39 @@ static int parse(int argc, char **argv, cli *c)
     return 0;
 }
 
+/* The demo or model file called name: a built-in demo, a path to a model
+ * file (it ends in .eom or has a '/'), or a shipped model by name. *fd
+ * receives a file's demo for the caller to free. Returns 0, or an exit
+ * status after a message. */
+static int find_demo(const char *name, const demo **d, demo **fd)
+{
+    char path[4096], err[4096];
+    size_t len = strlen(name);
+    const char *file = NULL;
+    *d = demo_find(name);
+    if (*d)
+        return 0;
+    if (strchr(name, '/') || (len > 4 && strcmp(name + len - 4, ".eom") == 0))
+        file = name;
+    else if (file_demo_shipped(name, path, sizeof path) == 0)
+        file = path;
+    if (!file)
+        return usage_error("unknown demo '%s' (eom-run --list shows the "
+                           "demos and model files; a model file's name "
+                           "ends in .eom)", name);
+    if (file_demo_open(file, file == name ? NULL : name, fd, err,
+                       sizeof err) != 0) {
+        fprintf(stderr, "eom-run: %s\n", err);
+        return EXIT_RUN;
+    }
+    *d = *fd;
+    return 0;
+}
+
 /* The rest of main once the command line is read: returns the exit
  * status. */
-static int run(cli *c)
+static int run(cli *c, const demo *d)
 {
-    const demo *d = demo_find(c->demo_name);
     eom_model *model = NULL;
     eom_system *s = NULL;
     csv_writer *w = NULL;
@@ -347,9 +380,6 @@ static int run(cli *c)
     int status = EXIT_RUN, n, rc;
     run_plan plan;
 
-    if (!d)
-        return usage_error("unknown demo '%s' (eom-run --list shows the "
-                           "demos)", c->demo_name);
     if (c->modes && c->describe)
         return usage_error("--modes and --describe: give one of them");
     if (c->modes && (c->plots || c->out))
@@ -374,7 +404,7 @@ static int run(cli *c)
         return usage_error("%s", err);
     }
 
-    if (d->build(settings, &model, err, sizeof err) != 0) {
+    if (d->build(d, settings, &model, err, sizeof err) != 0) {
         fprintf(stderr, "eom-run: %s: cannot build the model: %s\n", d->name,
                 err);
         goto done;
@@ -426,7 +456,7 @@ static int run(cli *c)
                      c->sets[k].arg);
             placed |= eom_coord_index(s, name) >= 0;
         }
-        if (!placed && d->rest_guess && d->rest_guess(settings, s, x0) == 0)
+        if (!placed && d->rest_guess && d->rest_guess(d, settings, s, x0) == 0)
             origin = "the demo's rest guess";
         status = modes_report(stdout, s, x0, d->name, origin) == 0
                      ? EXIT_SUCCESS
@@ -463,7 +493,7 @@ static int run(cli *c)
             fflush(stderr);
         }
         /* the CSV is closed: the plots read it back from the file */
-        rc = d->after_run(settings, s, c->out, err, sizeof err);
+        rc = d->after_run(d, settings, s, c->out, err, sizeof err);
         if (tty)
             fprintf(stderr, "\r%60s\r", "");
         if (rc != 0) {
@@ -513,12 +543,18 @@ int main(int argc, char **argv)
             help();
         } else if (c.list) {
             describe_list(stdout);
+            file_demo_list(stdout);
         } else if (!c.demo_name) {
             usage_line(stderr);
             status = usage_error("no demo given (eom-run --list shows the "
                                  "demos)");
         } else {
-            status = run(&c);
+            const demo *d = NULL;
+            demo *fd = NULL;
+            status = find_demo(c.demo_name, &d, &fd);
+            if (status == 0)
+                status = run(&c, d);
+            file_demo_free(&fd);
         }
     }
     free(c.sets);

@@ -117,7 +117,7 @@ static int build_demo(const char *name, eom_system **s, double **x0)
     }
     for (k = 0; k < d->nsettings; k++)
         settings[k] = d->settings[k].dflt;
-    if (d->build(settings, &model, err, sizeof err) != 0 ||
+    if (d->build(d, settings, &model, err, sizeof err) != 0 ||
         eom_system_new(s, model, err, sizeof err) != EOM_OK) {
         fprintf(stderr, "bench-wp: %s: %s\n", name, err);
         eom_model_free(&model);

@@ -100,13 +100,15 @@ static int build_chain(const eom_chain_spec *sp, eom_model **out, char *err,
     return demo_model_done(&m, out, err, errlen);
 }
 
-static int open_build(const double *set, eom_model **out, char *err,
+static int open_build(const demo *d, const double *set, eom_model **out,
+                      char *err,
                       size_t errlen)
 {
     const int N = (int)set[S_LINKS], K = (int)set[S_MODES];
     eom_chain_spec sp = {0};
     chain_init ci = {0};
     int j, rc;
+    (void)d;
     if (init_alloc(&ci, N, K) != 0) {
         init_free(&ci);
         snprintf(err, errlen, "out of memory");
@@ -155,7 +157,8 @@ static int arch(int N, double D, double L, double *theta)
     return 0;
 }
 
-static int closed_build(const double *set, eom_model **out, char *err,
+static int closed_build(const demo *d, const double *set, eom_model **out,
+                        char *err,
                         size_t errlen)
 {
     static const double paper[5] = {5, 1, 0, 17, 13}; /* x pi/12 */
@@ -164,6 +167,7 @@ static int closed_build(const double *set, eom_model **out, char *err,
     eom_chain_spec sp = {0};
     chain_init ci = {0};
     int j, rc;
+    (void)d;
     if (init_alloc(&ci, N, K) != 0) {
         init_free(&ci);
         snprintf(err, errlen, "out of memory");
@@ -193,11 +197,13 @@ static int closed_build(const double *set, eom_model **out, char *err,
 
 /* The closed chain hangs below its pins at rest: the arch of closed_build
  * turned downwards, with the links straight. */
-static int closed_rest_guess(const double *set, const eom_system *s,
+static int closed_rest_guess(const demo *d, const double *set,
+                             const eom_system *s,
                              double *q)
 {
     const int N = (int)set[S_LINKS], n = eom_system_ncoords(s);
     int j;
+    (void)d;
     if (arch(N, 10.0, set[S_L], q) != 0)
         return 1;
     for (j = 0; j < N; j++)
@@ -207,9 +213,11 @@ static int closed_rest_guess(const double *set, const eom_system *s,
     return 0;
 }
 
-static int chain_after_run(const double *set, const eom_system *s,
+static int chain_after_run(const demo *d, const double *set,
+                           const eom_system *s,
                            const char *csv_path, char *err, size_t errlen)
 {
+    (void)d;
     return chain_plots_write(s, (int)set[S_LINKS], csv_path, err, errlen);
 }
 

@@ -40,22 +40,27 @@ typedef struct demo {
      * Returns 0 and a new model in *out (transferred to the caller), or
      * non-zero with *out NULL and a message in err (errlen bytes). The
      * model must own whatever its callbacks read (eom_model_attach). */
-    int (*build)(const double *settings, eom_model **out, char *err,
-                 size_t errlen);
+    int (*build)(const struct demo *d, const double *settings,
+                 eom_model **out, char *err, size_t errlen);
     /* Optional (NULL: none). Called with --plots after a run that
      * finished and wrote its CSV to the file csv_path, for extra output
      * beside it such as plots. settings as for build; s is the system
      * that ran. Returns 0, or non-zero with a message in err (eom-run then
      * exits with status 1). */
-    int (*after_run)(const double *settings, const eom_system *s,
-                     const char *csv_path, char *err, size_t errlen);
+    int (*after_run)(const struct demo *d, const double *settings,
+                     const eom_system *s, const char *csv_path, char *err,
+                     size_t errlen);
     /* Optional (NULL: start from the initial state). Where --modes starts
      * its search for the static equilibrium when no coordinate was set on
      * the command line: writes n coordinates to q (a guess near the
      * demo's stable rest state) and returns 0, or non-zero to use the
      * initial state. */
-    int (*rest_guess)(const double *settings, const eom_system *s,
-                      double *q);
+    int (*rest_guess)(const struct demo *d, const double *settings,
+                      const eom_system *s, double *q);
+    /* Whatever the hooks need beyond the settings (a model file's demo:
+     * the parsed file); NULL for the built-in demos. Each hook receives
+     * its demo as d. */
+    void *data;
 } demo;
 
 /* The demos, in the order --list shows them. */

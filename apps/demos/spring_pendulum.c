@@ -38,10 +38,11 @@ static int sp_potential(eom_ctx *c, void *user, tp_val *out)
     return 0;
 }
 
-static int sp_build(const double *settings, eom_model **out, char *err,
-                    size_t errlen)
+static int sp_build(const demo *d, const double *settings, eom_model **out,
+                    char *err, size_t errlen)
 {
     eom_model *m = NULL;
+    (void)d;
     (void)settings;
     if (eom_model_new(&m) == EOM_OK) {
         /* failures are sticky: demo_model_done reports the first one */

@@ -121,7 +121,8 @@ static int write_script(const plot_place *p, const char *name,
     return 0;
 }
 
-int spring_plots_write(const double *settings, const eom_system *s,
+int spring_plots_write(const demo *d, const double *settings,
+                       const eom_system *s,
                        const char *csv_path, char *err, size_t errlen)
 {
     static const char *const names[2] = {"energy", "path"};
@@ -129,6 +130,7 @@ int spring_plots_write(const double *settings, const eom_system *s,
     cols c;
     char script[2048];
     int k;
+    (void)d;
     (void)settings;
     (void)s;
     if (plot_place_of(&p, csv_path, err, errlen) != 0 ||

@@ -6,9 +6,11 @@
 
 #include <stddef.h>
 
+#include "demos.h"
 #include "eom/eom.h"
 
-int spring_plots_write(const double *settings, const eom_system *s,
+int spring_plots_write(const demo *d, const double *settings,
+                       const eom_system *s,
                        const char *csv_path, char *err, size_t errlen);
 
 #endif

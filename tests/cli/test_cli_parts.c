@@ -91,23 +91,26 @@ static const demo_setting test_settings[] = {
     {"width", "m", 0.5, 0.0, 2.0, 0, "width"},
 };
 
-static int test_build(const double *settings, eom_model **out, char *err,
-                      size_t errlen)
+static int test_build(const demo *d, const double *settings,
+                      eom_model **out, char *err, size_t errlen)
 {
     /* the model does not depend on the settings: borrow a real demo's */
+    (void)d;
     (void)settings;
-    return demo_spring_pendulum.build(NULL, out, err, errlen);
+    return demo_spring_pendulum.build(&demo_spring_pendulum, NULL, out, err,
+                                      errlen);
 }
 
 static const demo test_demo = {"test-demo", "a demo with settings",
-                               test_settings, 2, test_build, NULL, NULL};
+                               test_settings, 2, test_build, NULL, NULL,
+                               NULL};
 
 /* A demo whose setting is also a parameter name: a registry error. */
 static const demo_setting clash_settings[] = {
     {"k", "", 1, 1, 2, 1, "clashes with the parameter k"},
 };
 static const demo clash_demo = {"clash", "bad", clash_settings, 1,
-                                test_build, NULL, NULL};
+                                test_build, NULL, NULL, NULL};
 
 static void test_overrides(void)
 {
@@ -148,7 +151,7 @@ static void test_overrides(void)
                              sizeof err) != 0);
 
     /* the rest goes to the system; settings are skipped there */
-    CHECK_INT(test_demo.build(settings, &m, err, sizeof err), 0);
+    CHECK_INT(test_demo.build(&test_demo, settings, &m, err, sizeof err), 0);
     CHECK_INT(eom_system_new(&s, m, err, sizeof err), EOM_OK);
     eom_model_free(&m);
     if (!s)
@@ -192,7 +195,7 @@ static void test_registry(void)
             settings[j] = st->dflt;
         }
         CHECK(strlen(all[i]->summary) > 0 && !strchr(all[i]->summary, '\n'));
-        CHECK_INT(all[i]->build(settings, &m, err, sizeof err), 0);
+        CHECK_INT(all[i]->build(all[i], settings, &m, err, sizeof err), 0);
         CHECK_INT(eom_system_new(&s, m, err, sizeof err), EOM_OK);
         if (s)
             CHECK_INT(demo_check_names(all[i], s, err, sizeof err), 0);
