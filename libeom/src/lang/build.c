@@ -66,15 +66,15 @@ static int family_ranges(lang_inst *in, int s)
             return -1;
         }
         f->lo[k] = (int)lo;
-        f->cnt[k] = hi >= lo ? (int)(hi - lo + 1 > LANG_MAX_COUNT
-                                         ? LANG_MAX_COUNT + 1
+        f->cnt[k] = hi >= lo ? (int)(hi - lo + 1 > in->p->max_count
+                                         ? in->p->max_count + 1
                                          : hi - lo + 1)
                              : 0;
         size *= f->cnt[k];
-        if (size > LANG_MAX_COUNT) {
+        if (size > in->p->max_count) {
             lang_fail(in, y->tok, NULL,
                       "%s has more than %d members", y->name,
-                      LANG_MAX_COUNT);
+                      in->p->max_count);
             return -1;
         }
     }
@@ -156,7 +156,7 @@ static const char *desc_text(const lang_prog *p, const sym *y, char *buf,
 static int declare(lang_inst *in, eom_model *m)
 {
     const lang_prog *p = in->p;
-    int s, j, rc, np = 0;
+    int s, j, rc, np = 0, nc = 0;
     char name[LANG_MAX_NAME + 48], desc[256], what[LANG_MAX_NAME + 64];
     for (s = 0; s < p->nsyms; s++) {
         const sym *y = &p->syms[s];
@@ -166,9 +166,12 @@ static int declare(lang_inst *in, eom_model *m)
             return -1;
         if (y->kind == S_PARAM)
             np += in->fam[s].size;
-        if (np > LANG_MAX_COUNT) {
-            lang_fail(in, y->tok, NULL, "more than %d parameters",
-                      LANG_MAX_COUNT);
+        if (y->kind == S_COORD)
+            nc += in->fam[s].size;
+        if (np > in->p->max_count || nc > in->p->max_count) {
+            lang_fail(in, y->tok, NULL, "more than %d %s",
+                      in->p->max_count,
+                      np > in->p->max_count ? "parameters" : "coordinates");
             return -1;
         }
     }
@@ -523,18 +526,27 @@ static int run_others(lang_inst *in, const eom_model *m, const double *x)
 }
 
 /* T (or L) recorded alone; a coordinate whose column of the mass matrix
- * vanishes at two unrelated states has a rate T does not depend on. */
+ * vanishes at two unrelated states has a rate T does not depend on.
+ * Beyond LANG_MASS_CHECK coordinates the check is left to the first
+ * evaluation (EOM_ERR_SINGULAR_MASS): the dense M alone would take more
+ * memory than the model. */
+#define LANG_MASS_CHECK 2000
 static int check_mass(lang_inst *in, const eom_model *m, const double *x0)
 {
     const int n = m->n_coords;
-    unsigned char *group = malloc(2 * (size_t)n);
-    double *x = malloc(2 * (size_t)n * sizeof *x);
-    double *M = malloc((size_t)n * (size_t)n * sizeof *M);
-    double *zero = calloc((size_t)n, sizeof *zero);
+    unsigned char *group;
+    double *x;
+    double *M, *zero;
     tp_rec *r = NULL;
     tp_tape *t = NULL;
     tp_ws *ws = NULL;
     int rc = -1, k, i, pass;
+    if (n > LANG_MASS_CHECK)
+        return 0;
+    group = malloc(2 * (size_t)n);
+    x = malloc(2 * (size_t)n * sizeof *x);
+    M = malloc((size_t)n * (size_t)n * sizeof *M);
+    zero = calloc((size_t)n, sizeof *zero);
     if (!group || !x || !M || !zero) {
         lang_fail(in, 0, NULL, "out of memory");
         goto done;
@@ -637,7 +649,8 @@ int lang_build(lang_prog *p, const double *setting, eom_model **out,
     rc = declare(in, m) == 0 && add_callbacks(in, m) == 0 ? 0 : -1;
     if (rc == 0) {
         const int n = eom_model_ncoords(m);
-        x0 = malloc(2 * (size_t)n * sizeof *x0 + 1);
+        /* (q, qd, t): the forces' recording reads the time too */
+        x0 = malloc((2 * (size_t)n + 1) * sizeof *x0);
         if (!x0) {
             lang_fail(in, 0, NULL, "out of memory");
             rc = -1;
@@ -647,6 +660,7 @@ int lang_build(lang_prog *p, const double *setting, eom_model **out,
                 x0[k] = m->coords[k].v0;
                 x0[n + k] = m->coords[k].v1;
             }
+            x0[2 * n] = 0.0;
             rc = check_mass(in, m, x0) == 0 && run_others(in, m, x0) == 0
                      ? 0
                      : -1;

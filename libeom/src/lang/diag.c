@@ -97,36 +97,39 @@ const char *lang_tok_text(const lang_prog *p, int t, char *buf, size_t len)
     return buf;
 }
 
+/* Optimal string alignment: insertions, deletions, substitutions and
+ * swaps of two neighbours (cso -> cos) each count one. */
 int lang_edit_distance(const char *a, const char *b, int cap)
 {
-    int row[LANG_MAX_NAME + 2];
+    int d[3][LANG_MAX_NAME + 1]; /* rows i - 2, i - 1, i (mod 3) */
     int la = (int)strlen(a), lb = (int)strlen(b), i, j;
     if (la > LANG_MAX_NAME || lb > LANG_MAX_NAME)
         return cap + 1;
     if (la - lb > cap || lb - la > cap)
         return cap + 1;
     for (j = 0; j <= lb; j++)
-        row[j] = j;
+        d[0][j] = j;
     for (i = 1; i <= la; i++) {
-        int diag = row[0], best;
-        row[0] = i;
-        best = row[0];
+        int *cur = d[i % 3], *up = d[(i - 1) % 3], *up2 = d[(i + 1) % 3];
+        int best;
+        cur[0] = best = i;
         for (j = 1; j <= lb; j++) {
-            int up = row[j];
-            int v = diag + (a[i - 1] != b[j - 1]);
-            if (row[j - 1] + 1 < v)
-                v = row[j - 1] + 1;
-            if (up + 1 < v)
-                v = up + 1;
-            row[j] = v;
-            diag = up;
+            int v = up[j - 1] + (a[i - 1] != b[j - 1]);
+            if (up[j] + 1 < v)
+                v = up[j] + 1;
+            if (cur[j - 1] + 1 < v)
+                v = cur[j - 1] + 1;
+            if (i > 1 && j > 1 && a[i - 1] == b[j - 2] &&
+                a[i - 2] == b[j - 1] && up2[j - 2] + 1 < v)
+                v = up2[j - 2] + 1;
+            cur[j] = v;
             if (v < best)
                 best = v;
         }
-        if (best > cap)
+        if (best > cap + 1)
             return cap + 1;
     }
-    return row[lb];
+    return d[la % 3][lb] > cap ? cap + 1 : d[la % 3][lb];
 }
 
 int lang_grow(void **v, int *cap, int need, size_t elem, int limit)

@@ -58,7 +58,7 @@ void lang_begin(lang_inst *in, eom_ctx *ctx, int role, const char *what)
     in->r = ctx ? eom_rec(ctx) : NULL;
     in->role = role;
     in->what = what;
-    in->budget = LANG_BUDGET;
+    in->budget = in->p->budget;
     in->depth = 0;
     if (++in->epoch == 0) { /* wrapped: forget everything */
         unsigned k;
@@ -632,7 +632,7 @@ int lang_eval(lang_inst *in, int n, lval *out)
                   "check the settings (a number of links or modes?) and "
                   "sums over large ranges",
                   "the model is too large: recording %s takes more than %ld "
-                  "steps", in->what, LANG_BUDGET);
+                  "steps", in->what, in->p->budget);
         return -1;
     }
     if (++in->depth > LANG_MAX_DEPTH) {

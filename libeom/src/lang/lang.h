@@ -220,6 +220,8 @@ typedef struct lang_prog {
     int nstmts, cap_stmts;
     int nvars, cap_vars;  /* index variables */
     int32_t *var_tok;     /* [nvars] where each is bound */
+    long budget;          /* LANG_BUDGET, or lower (lang_file_limits) */
+    int max_count;        /* LANG_MAX_COUNT, or lower */
     int units_off;        /* "units off" */
     int32_t units_off_tok;
 } lang_prog;
@@ -259,6 +261,12 @@ int lang_unit_parse(const char *text, dim *d, char *bad, size_t badlen);
 /* The dimension written in base units ("kg m^2 s^-2"; "1" when none). */
 void lang_dim_format(dim d, char *buf, size_t len);
 int lang_dim_equal(dim a, dim b);
+
+/* Lower the limits of f (for the fuzzer, which must not spend its time
+ * on legitimately large models): steps per recording and members of a
+ * family, coordinates or parameters. */
+struct eom_file;
+void lang_file_limits(struct eom_file *f, long budget, int max_count);
 
 /* Growable arrays. Return 0, or -1 when out of memory or beyond limit. */
 int lang_grow(void **v, int *cap, int need, size_t elem, int limit);

@@ -140,6 +140,8 @@ static int from_text(eom_file **out, char *text, long len, const char *name,
         return EOM_ERR_NOMEM;
     }
     p->refs = 1;
+    p->budget = LANG_BUDGET;
+    p->max_count = LANG_MAX_COUNT;
     p->text = text;
     p->text_len = len;
     f->p = p;
@@ -234,6 +236,14 @@ int eom_file_read(eom_file **out, const char *path, char *err,
     }
     text[n] = '\0';
     return from_text(out, text, (long)n, path, err, errlen);
+}
+
+void lang_file_limits(eom_file *f, long budget, int max_count)
+{
+    if (f) {
+        f->p->budget = budget;
+        f->p->max_count = max_count;
+    }
 }
 
 const char *eom_file_summary(const eom_file *f)

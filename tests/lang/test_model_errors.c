@@ -1,0 +1,220 @@
+/* test_model_errors.c - one case per class of error a model file can
+ * have: each must be reported before anything runs, as
+ * "<string>:LINE:COL: message", with the source line, a caret under the
+ * column, and the suggestion where one is knowable. A case names the
+ * line, the column and words of the message and of the hint. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "eom/model_file.h"
+
+typedef struct err_case {
+    const char *what;
+    const char *text;
+    int line, col;
+    const char *msg;  /* in the first line */
+    const char *hint; /* anywhere (NULL: none checked) */
+} err_case;
+
+#define HEAD "param m = 1 [kg]\ncoord x = 0 [m]\n"
+
+static const err_case cases[] = {
+    {"unknown name, nearest suggested", HEAD "T = 1/2*m*x_dto^2\n", 3, 11,
+     "unknown name 'x_dto'", "did you mean 'x_dot'?"},
+    {"unknown function", HEAD "T = 1/2*m*x_dot^2\nV = m*9.81*frob(x)\n", 4,
+     12, "unknown function 'frob'", "the functions are sqrt"},
+    {"misspelled function", HEAD "T = 1/2*m*x_dot^2\nV = m*9.81*x*cso(0)\n",
+     4, 14, "unknown function 'cso'", "did you mean 'cos'?"},
+    {"defined twice", HEAD "param m = 2 [kg]\nT = 1/2*m*x_dot^2\n", 3, 7,
+     "m is defined twice", "first definition is on line 1"},
+    {"definition defined twice", HEAD "a = x\na = 2*x\nT = 1/2*m*x_dot^2\n",
+     4, 1, "a is defined twice", "line 3"},
+    {"energy defined twice", HEAD "T = 1/2*m*x_dot^2\nT = m*x_dot^2\n", 4, 1,
+     "T is defined twice", "line 3"},
+    {"wrong number of arguments", HEAD "T = 1/2*m*x_dot^2*sin(x, 2)\n", 3,
+     19, "sin takes 1 argument, not 2", NULL},
+    {"wrong number of indices",
+     "setting n = 2\nparam m = 1 [kg]\ncoord x[j in 1..n] = 0 [m]\n"
+     "T = 1/2*m*x_dot^2\n",
+     4, 11, "x_dot has 1 index, not 0", "write x_dot[j]"},
+    {"index out of range",
+     "setting n = 3\nparam m = 1 [kg]\ncoord x[j in 1..n] = 0 [m]\n"
+     "T = 1/2*m*sum(j in 1..n, x_dot[j+1]^2)\n",
+     4, 26, "x[4]: index 4 is out of range", "1..3"},
+    {"recurrence without a base case",
+     "setting n = 3\nparam m = 1 [kg]\ncoord x[j in 1..n] = 0 [m]\n"
+     "v[j in 1..n] = v[j-1] + x_dot[j]\n"
+     "T = 1/2*m*sum(j in 1..n, v[j]^2)\n",
+     4, 16, "v[0] is not defined", "needs a base case: add a line such as "
+                                      "v[0] = ..."},
+    {"cycle among definitions",
+     "units off\nparam m = 1\ncoord x = 0\na = b + 1\nb = 2*a\n"
+     "T = 1/2*m*x_dot^2 + 0*a + b*x_dot^2\n",
+     5, 7, "a depends on itself", "recurrence must reach a base case"},
+    {"missing T", HEAD "V = 9.81*m*x\n", 1, 1,
+     "the model has no kinetic energy T", NULL},
+    {"missing T (no energy at all)", HEAD "a = x\n", 1, 1,
+     "the model has no kinetic energy T", "T = 1/2*m*x_dot^2"},
+    {"T does not depend on a rate", HEAD "coord y = 0 [m]\nT = 1/2*m*x_dot^2\n",
+     4, 1, "T does not depend on y_dot: the mass matrix would be singular",
+     "1/2*m*y_dot^2"},
+    {"unit that does not parse", "param m = 1 [kgs]\ncoord x = 0 [m]\n"
+     "T = 1/2*m*x_dot^2\n", 1, 14, "'kgs' is not a unit", "SI symbols"},
+    {"unit with a prefix", "param m = 1 [kg]\ncoord x = 0 [mm]\n"
+     "T = 1/2*m*x_dot^2\n", 2, 14, "'mm' is not a unit", "without prefixes"},
+    {"missing unit", "param m = 1\ncoord x = 0 [m]\nT = 1/2*m*x_dot^2\n", 1,
+     7, "parameter m has no unit", "units off"},
+    {"units that do not add", HEAD "T = 1/2*m*x_dot^2 + m*x\n", 3, 19,
+     "units do not agree: kg m^2 s^-2 (J) plus kg m", NULL},
+    {"T not in energy units", HEAD "T = 1/2*m*x_dot\n", 3, 1,
+     "the kinetic energy T is in kg m s^-1, not in kg m^2 s^-2 (J)", NULL},
+    {"R not a power", HEAD "T = 1/2*m*x_dot^2\nR = 1/2*m*x_dot^2\n", 4, 1,
+     "the dissipation function R is in kg m^2 s^-2 (J), not in kg m^2 s^-3 "
+     "(W)", NULL},
+    {"force in the wrong units", HEAD "T = 1/2*m*x_dot^2\nforce x = m*x\n", 4,
+     1, "this force is in kg m, not in kg m s^-2 (N)", "J/(m)"},
+    {"time outside a force",
+     "units off\nparam m = 1\ncoord x = 0\nT = 1/2*m*x_dot^2\nV = x*t\n", 5,
+     7, "the time t cannot appear in the potential energy V", "force"},
+    {"rate in a constraint",
+     "units off\nparam m = 1\ncoord x = 0\ncoord y = 1\n"
+     "T = 1/2*m*(x_dot^2 + y_dot^2)\nconstraint c = x*y_dot\n",
+     6, 18, "the rate y_dot cannot appear in the constraint c", NULL},
+    {"parameter in an initial value",
+     "param m = 1 [kg]\nparam r0 = 1 [m]\ncoord x = r0 [m]\n"
+     "T = 1/2*m*x_dot^2\n", 3, 11, "the parameter r0 cannot be used here",
+     NULL},
+    {"comparison of a coordinate", HEAD "T = 1/2*m*x_dot^2*if(x > 0, 1, 2)\n",
+     3, 24, "a comparison must be known when the file is read",
+     "not coordinates or parameters"},
+    {"reserved name", "param L = 1 [m]\ncoord x = 0 [m]\n", 1, 7,
+     "'L' is reserved (the Lagrangian)", "len"},
+    {"name ending in _dot", "param m = 1 [kg]\ncoord x_dot = 0 [m]\n", 2, 7,
+     "a name cannot end in _dot", NULL},
+    {"unclosed parenthesis", HEAD "T = 1/2*m*(x_dot^2\nV = 0\n", 3, 11,
+     "'(' is never closed", NULL},
+    {"line starting with an operator", HEAD "T = 1/2*m*x_dot^2\n  + m*x\n", 4,
+     3, "a line cannot start with an operator", "end the line before"},
+    {"number followed by a name", HEAD "T = 1/2m*x_dot^2\n", 3, 8,
+     "a name cannot follow a number", "2*x"},
+    {"bad character", HEAD "T = 1/2*m*x_dot^2 $\n", 3, 19,
+     "unexpected character '$'", NULL},
+    {"non-ASCII byte", HEAD "T = 1/2*m*x_dot\xc2\xb2\n", 3, 16,
+     "unexpected byte 0xc2", "plain ASCII"},
+    {"setting default outside its range",
+     "setting n = 5 in 1..3\n" HEAD "T = 1/2*m*x_dot^2\n", 1, 13,
+     "the default of n is outside its range", "1..3"},
+    {"space before an index",
+     "setting n = 2\nparam m = 1 [kg]\ncoord x[j in 1..n] = 0 [m]\n"
+     "T = 1/2*m*x_dot [1]^2\n", 4, 17, "unexpected '['", "theta[j]"},
+    {"L together with T", HEAD "T = 1/2*m*x_dot^2\nL = 1/2*m*x_dot^2\n", 4, 1,
+     "a Lagrangian L together with T", NULL},
+};
+
+/* "<string>:LINE:COL: message..." */
+static void check_case(const err_case *c)
+{
+    char err[4096], *nl;
+    eom_model *m = NULL;
+    int line = 0, col = 0, rc;
+    rc = eom_model_from_string(&m, c->text, err, sizeof err);
+    if (rc != EOM_ERR_FILE || m) {
+        CHECK_FAIL_("%s: status %d, expected EOM_ERR_FILE", c->what, rc);
+        eom_model_free(&m);
+        return;
+    }
+    if (sscanf(err, "<string>:%d:%d:", &line, &col) != 2) {
+        CHECK_FAIL_("%s: no place in '%s'", c->what, err);
+        return;
+    }
+    if (line != c->line || col != c->col)
+        CHECK_FAIL_("%s: at %d:%d, expected %d:%d\n%s", c->what, line, col,
+                    c->line, c->col, err);
+    /* the source line and a caret under the column */
+    nl = strchr(err, '\n');
+    if (!nl || !strchr(nl + 1, '\n') || !strchr(nl, '^'))
+        CHECK_FAIL_("%s: no source line and caret in\n%s", c->what, err);
+    if (c->msg) {
+        char first[1024];
+        size_t n = nl ? (size_t)(nl - err) : strlen(err);
+        snprintf(first, sizeof first, "%.*s", (int)n, err);
+        if (!strstr(first, c->msg))
+            CHECK_FAIL_("%s: message lacks '%s':\n%s", c->what, c->msg, err);
+    }
+    if (c->hint && !strstr(err, c->hint))
+        CHECK_FAIL_("%s: hint lacks '%s':\n%s", c->what, c->hint, err);
+    check_count_++;
+}
+
+/* The caret sits under the reported column. */
+static void check_caret(void)
+{
+    char err[2048];
+    eom_model *m = NULL;
+    const char *src, *caret;
+    CHECK(eom_model_from_string(&m, HEAD "T = 1/2*m*x_dto^2\n", err,
+                                sizeof err) == EOM_ERR_FILE);
+    src = strchr(err, '\n');
+    caret = src ? strchr(src + 1, '\n') : NULL;
+    CHECK(src && caret);
+    if (src && caret) {
+        /* "  T = ..." then "  ^" under column 11 */
+        CHECK(strncmp(src + 1, "  T = 1/2*m*x_dto^2", 19) == 0);
+        CHECK(caret[1 + 2 + 10] == '^');
+    }
+}
+
+/* Limits: file size, nesting, and the settings' API. */
+static void check_limits(void)
+{
+    char err[2048];
+    size_t n = (1u << 20) + 10, k;
+    char *big = malloc(n + 1), *deep = malloc(4000);
+    eom_model *m = NULL;
+    eom_file *f = NULL;
+    memset(big, '#', n);
+    big[n] = '\0';
+    CHECK(eom_model_from_string(&m, big, err, sizeof err) == EOM_ERR_FILE);
+    CHECK(strstr(err, "longer than 1 MiB") != NULL);
+    /* 300 nested parentheses: beyond the documented 200 */
+    strcpy(deep, HEAD "T = ");
+    for (k = 0; k < 300; k++)
+        strcat(deep, "(");
+    strcat(deep, "x_dot");
+    for (k = 0; k < 300; k++)
+        strcat(deep, ")");
+    strcat(deep, "\n");
+    CHECK(eom_model_from_string(&m, deep, err, sizeof err) == EOM_ERR_FILE);
+    CHECK(strstr(err, "deeper than 200") != NULL);
+    CHECK(strstr(err, "<string>:3:") == err);
+    /* settings: unknown name and out of range */
+    CHECK(eom_file_parse(&f, "setting n = 2 in 1..4\n" HEAD
+                         "T = 1/2*m*x_dot^2\n",
+                         "s.eom", err, sizeof err) == EOM_OK);
+    CHECK(eom_file_set_setting(f, "links", 3, err, sizeof err) ==
+          EOM_ERR_NAME);
+    CHECK(strstr(err, "links is not a setting of s.eom") != NULL);
+    CHECK(eom_file_set_setting(f, "n", 5, err, sizeof err) == EOM_ERR_ARG);
+    CHECK(strstr(err, "outside its range 1..4") != NULL);
+    CHECK(eom_file_set_setting(f, "n", 4, err, sizeof err) == EOM_OK);
+    CHECK(eom_file_setting(f, 0) == 4);
+    eom_file_free(&f);
+    /* a file that does not exist */
+    CHECK(eom_model_from_file(&m, "/nonexistent/x.eom", err, sizeof err) ==
+          EOM_ERR_FILE);
+    CHECK(strstr(err, "cannot open the model file") != NULL);
+    free(big);
+    free(deep);
+}
+
+int main(void)
+{
+    size_t k;
+    for (k = 0; k < sizeof cases / sizeof cases[0]; k++)
+        check_case(&cases[k]);
+    check_caret();
+    check_limits();
+    CHECK_DONE();
+}
