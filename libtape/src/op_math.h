@@ -41,10 +41,12 @@ static inline double tp__powi(double u, int k)
 }
 
 /* sin and cos of one angle in one libm call where the compiler offers it
- * (compilers do not always merge separate sin and cos calls). */
+ * (compilers do not always merge separate sin and cos calls; clang, which
+ * defines __GNUC__ too, has no __builtin_sincos but merges them itself
+ * with -fno-math-errno). */
 static inline double tp__sin_cos(double u, double *c)
 {
-#if defined(__GNUC__)
+#if defined(__GNUC__) && !defined(__clang__)
     double s;
     __builtin_sincos(u, &s, c);
     return s;
