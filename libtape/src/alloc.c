@@ -45,6 +45,11 @@ void *tp__calloc(const tp_allocator *al, size_t n, size_t size)
     void *p;
     if (bytes == 0)
         bytes = 1; /* a valid, freeable pointer for empty arrays */
+    /* the C library's calloc gets large blocks as fresh zero pages from
+     * the system, without writing them (a workspace for n directions is
+     * megabytes that a sweep may never touch) */
+    if (al->fn == default_alloc && bytes != SIZE_MAX)
+        return calloc(1, bytes);
     p = tp__alloc(al, bytes);
     if (p)
         memset(p, 0, bytes);
