@@ -84,6 +84,9 @@ struct eom_ctx {
     int n;
     int status;       /* first error of this recording */
     char msg[EOM_MSG_LEN];
+    unsigned lang_run; /* 0 when the recording starts; the model-file
+                          language marks it to share its definitions
+                          among the callbacks of one recording */
 };
 
 /* ---- system ----------------------------------------------------------- */

@@ -444,39 +444,60 @@ static int add_callbacks(lang_inst *in, eom_model *m)
 
 /* ---- checks before the model is handed out ---------------------------------- */
 
+/* One run of the double evaluator over every callback of one role (the
+ * callbacks of a role share definitions, as they do on the tapes). */
 typedef struct check_arg {
     eom_ctx *c;
     lang_inst *in;
-    int which; /* 0 R, 1 forces, 2 constraint (cb), 3 probe (cb) */
-    lang_cb *cb;
+    int role;
     tp_val *out;
 } check_arg;
 
 static int check_body(tp_rec *r, void *user)
 {
     check_arg *a = user;
+    lang_inst *in = a->in;
     tp_val one;
-    int k;
+    int k, j, rc = 0;
     (void)r;
-    switch (a->which) {
-    case 0: return cb_energy(a->c, a->cb, &one);
-    case 1:
-        for (k = 0; k < a->c->n; k++)
-            a->out[k] = tp_const(a->c->r, 0.0);
-        return cb_forces(a->c, a->cb, a->out);
-    case 2: return cb_constraint(a->c, a->cb, a->out);
-    default: return cb_probe(a->c, a->cb, &one);
+    for (k = 0; k < in->ncbs && rc == 0; k++) {
+        lang_cb *cb = &in->cbs[k];
+        int kind = cb->stmt >= 0 ? in->p->stmts[cb->stmt].kind : -1;
+        int sk = cb->sym >= 0 ? in->p->syms[cb->sym].kind : -1;
+        switch (a->role) {
+        case EOM_ROLE_STATE:
+            if (kind == ST_R)
+                rc = cb_energy(a->c, cb, &one);
+            else if (sk == S_PROBE)
+                rc = cb_probe(a->c, cb, &one);
+            break;
+        case EOM_ROLE_FORCE:
+            if (cb->stmt < 0 && cb->sym < 0) {
+                for (j = 0; j < a->c->n; j++)
+                    a->out[j] = tp_const(a->c->r, 0.0);
+                rc = cb_forces(a->c, cb, a->out);
+            }
+            break;
+        default:
+            if (sk == S_CONSTRAINT)
+                rc = cb_constraint(a->c, cb, a->out);
+            break;
+        }
     }
+    return rc;
 }
 
-/* Run every callback but T, V, L once on the double evaluator at x. */
+/* Run every callback but T, V and L once on the double evaluator at x
+ * (2n + 1 values: q, qd, t). */
 static int run_others(lang_inst *in, const eom_model *m, const double *x)
 {
+    static const int roles[3] = {EOM_ROLE_STATE, EOM_ROLE_FORCE,
+                                 EOM_ROLE_CONSTRAINT};
     const int n = m->n_coords;
     eom_ctx c;
     tp_rec *r = NULL;
     tp_val *out = NULL;
-    int k, rc = 0, most = n;
+    int k, most = n;
     for (k = 0; k < in->ncbs; k++)
         if (in->cbs[k].sym >= 0 &&
             in->p->syms[in->cbs[k].sym].kind == S_CONSTRAINT &&
@@ -488,71 +509,54 @@ static int run_others(lang_inst *in, const eom_model *m, const double *x)
         lang_fail(in, 0, NULL, "out of memory");
         return -1;
     }
-    for (k = 0; k < in->ncbs && rc == 0; k++) {
-        lang_cb *cb = &in->cbs[k];
+    for (k = 0; k < 3 && !in->failed; k++) {
         check_arg a;
         memset(&c, 0, sizeof c);
         c.r = r;
         c.m = m;
         c.n = n;
+        c.role = (eom_role)roles[k];
         a.c = &c;
         a.in = in;
-        a.cb = cb;
+        a.role = roles[k];
         a.out = out;
-        if (cb->stmt >= 0) {
-            int kind = in->p->stmts[cb->stmt].kind;
-            if (kind != ST_R)
-                continue;
-            a.which = 0;
-            c.role = EOM_ROLE_STATE;
-        } else if (cb->sym < 0) {
-            a.which = 1;
-            c.role = EOM_ROLE_FORCE;
-        } else if (in->p->syms[cb->sym].kind == S_CONSTRAINT) {
-            a.which = 2;
-            c.role = EOM_ROLE_CONSTRAINT;
-        } else {
-            a.which = 3;
-            c.role = EOM_ROLE_STATE;
-        }
         if (tp_rec_run(r, x, check_body, &a) != TP_OK && !in->failed)
             lang_fail(in, 0, NULL, "%s",
                       c.msg[0] ? c.msg : tp_rec_errmsg(r));
-        rc = in->failed ? -1 : 0;
     }
     free(out);
     tp_rec_free(&r);
-    return rc;
+    return in->failed ? -1 : 0;
 }
 
-/* T (or L) recorded alone; a coordinate whose column of the mass matrix
- * vanishes at two unrelated states has a rate T does not depend on.
- * Beyond LANG_MASS_CHECK coordinates the check is left to the first
- * evaluation (EOM_ERR_SINGULAR_MASS): the dense M alone would take more
- * memory than the model. */
-#define LANG_MASS_CHECK 2000
+/* The Lagrangian recorded alone. A coordinate whose row of the mass matrix
+ * M = d2L/dqd2 vanishes has a rate T does not depend on; M v for one
+ * direction v with no zero entries finds such rows (a row that is not
+ * zero gives (M v)_i = 0 only by accident), at two unrelated states, with
+ * one Hessian-vector product each. */
 static int check_mass(lang_inst *in, const eom_model *m, const double *x0)
 {
     const int n = m->n_coords;
-    unsigned char *group;
-    double *x;
-    double *M, *zero;
+    unsigned char *group = malloc(2 * (size_t)n);
+    double *x = malloc(2 * (size_t)n * sizeof *x);
+    double *S = calloc(2 * (size_t)n, sizeof *S);
+    double *HS = malloc(2 * (size_t)n * sizeof *HS);
+    unsigned char *zero = malloc((size_t)n);
+    const double w = 1.0;
     tp_rec *r = NULL;
     tp_tape *t = NULL;
     tp_ws *ws = NULL;
     int rc = -1, k, i, pass;
-    if (n > LANG_MASS_CHECK)
-        return 0;
-    group = malloc(2 * (size_t)n);
-    x = malloc(2 * (size_t)n * sizeof *x);
-    M = malloc((size_t)n * (size_t)n * sizeof *M);
-    zero = calloc((size_t)n, sizeof *zero);
-    if (!group || !x || !M || !zero) {
+    if (!group || !x || !S || !HS || !zero) {
         lang_fail(in, 0, NULL, "out of memory");
         goto done;
     }
     for (k = 0; k < 2 * n; k++)
         group[k] = (unsigned char)(k < n ? 0 : 1);
+    for (i = 0; i < n; i++) {
+        S[n + i] = 1.0 + 0.618 * (double)((i * 7919) % 97) / 97.0;
+        zero[i] = 1;
+    }
     if (tp_recorder_new(&r, 2 * n, group, NULL) != TP_OK) {
         lang_fail(in, 0, NULL, "out of memory");
         goto done;
@@ -565,29 +569,26 @@ static int check_mass(lang_inst *in, const eom_model *m, const double *x0)
         goto done;
     }
     if (tp_recorder_finish(r, &t) != TP_OK ||
-        tp_ws_new(&ws, t, n < 32 ? n : 32, NULL) != TP_OK) {
+        tp_ws_new(&ws, t, 1, NULL) != TP_OK) {
         lang_fail(in, 0, NULL, "recording the Lagrangian: %s",
                   tp_rec_errmsg(r));
         goto done;
     }
-    for (i = 0; i < n; i++)
-        zero[i] = 1.0;
     for (pass = 0; pass < 2; pass++) {
         for (k = 0; k < 2 * n; k++)
             x[k] = x0[k] + (pass ? 0.137 + 0.071 * (k % 11) : 0.0);
         /* a non-finite value is a question for the run, not for here */
-        if (tp_lagrange(ws, x, 0, NULL, NULL, M, NULL) < 0) {
+        if (tp_hvp(ws, x, &w, 1, S, NULL, HS) < 0) {
             lang_fail(in, 0, NULL, "evaluating the Lagrangian: %s",
                       tp_ws_errmsg(ws));
             goto done;
         }
         for (i = 0; i < n; i++)
-            for (k = 0; k < n; k++)
-                if (M[(size_t)i * n + k] != 0.0)
-                    zero[i] = 0.0;
+            if (HS[n + i] != 0.0)
+                zero[i] = 0;
     }
     for (i = 0; i < n; i++)
-        if (zero[i] != 0.0) {
+        if (zero[i]) {
             int st;
             char hint[300];
             for (st = 0; st < in->p->nstmts; st++)
@@ -611,7 +612,8 @@ done:
     tp_rec_free(&r);
     free(group);
     free(x);
-    free(M);
+    free(S);
+    free(HS);
     free(zero);
     return rc;
 }

@@ -60,6 +60,10 @@ void lang_begin(lang_inst *in, eom_ctx *ctx, int role, const char *what)
     in->what = what;
     in->budget = in->p->budget;
     in->depth = 0;
+    /* another callback of the recording in progress (the energies and
+     * probes of one tape): its definitions are on this tape already */
+    if (ctx && ctx->lang_run != 0 && ctx->lang_run == in->epoch)
+        return;
     if (++in->epoch == 0) { /* wrapped: forget everything */
         unsigned k;
         for (k = 0; in->memo && k <= in->memo_mask; k++)
@@ -68,6 +72,8 @@ void lang_begin(lang_inst *in, eom_ctx *ctx, int role, const char *what)
             in->pmemo_epoch[k] = 0;
         in->epoch = 1;
     }
+    if (ctx)
+        ctx->lang_run = in->epoch;
 }
 
 /* ---- the memo of definitions ----------------------------------------------- */
@@ -245,7 +251,7 @@ static int find_clause(lang_inst *in, int s, const long *idx, int tok,
         int match = 1;
         long keep[LANG_MAX_IDX];
         uint8_t keep_set[LANG_MAX_IDX];
-        for (k = 0; k < cl->nidx; k++)
+        for (k = 0; k < cl->nidx && k < LANG_MAX_IDX; k++)
             if (cl->idx[k].var >= 0) {
                 keep[k] = in->ival[cl->idx[k].var];
                 keep_set[k] = in->ival_set[cl->idx[k].var];
