@@ -139,12 +139,14 @@ static void help(void)
         "A, B >= 0\n"
         "                        in 1/s (default 0,0: off)\n"
         "  -o, --out FILE        write the CSV to FILE (default: standard "
-        "output)\n"
+        "output, or\n"
+        "                        NAME.csv in the current directory with "
+        "--plots)\n"
         "      --plots           after the run, write the demo's plots "
         "beside the CSV\n"
-        "                        (PNG, SVG, gnuplot scripts, an HTML "
-        "animation); needs\n"
-        "                        --out and gnuplot\n"
+        "                        (PNG, SVG, gnuplot scripts; for the "
+        "chains an HTML\n"
+        "                        animation); needs gnuplot\n"
         "      --modes           do not integrate: find the static "
         "equilibrium from the\n"
         "                        initial state and print it with the "
@@ -376,7 +378,7 @@ static int run(cli *c, const demo *d)
     eom_system *s = NULL;
     csv_writer *w = NULL;
     double *settings = NULL, *x0 = NULL;
-    char err[4096];
+    char err[4096], default_out[1100];
     int status = EXIT_RUN, n, rc;
     run_plan plan;
 
@@ -385,9 +387,6 @@ static int run(cli *c, const demo *d)
     if (c->modes && (c->plots || c->out))
         return usage_error("--modes prints to standard output and runs "
                            "nothing: --out and --plots belong to a run");
-    if (c->plots && !c->out)
-        return usage_error("--plots needs --out FILE.csv: the plots are "
-                           "written beside the CSV");
     if (c->plots && !d->after_run)
         return usage_error("--plots: the demo %s has no plots", d->name);
     if (c->t_end / c->sample > MAX_ROWS)
@@ -466,6 +465,18 @@ static int run(cli *c, const demo *d)
     if (start_state_prepare(s, x0, &c->opts, d->name) != 0)
         goto done;
 
+    /* --plots needs a CSV file to read back: NAME.csv here by default */
+    if (c->plots && !c->out) {
+        const char *base = strrchr(d->name, '/');
+        size_t len;
+        base = base ? base + 1 : d->name;
+        len = strlen(base);
+        if (len > 4 && strcmp(base + len - 4, ".eom") == 0)
+            len -= 4;
+        snprintf(default_out, sizeof default_out, "%.*s.csv", (int)len,
+                 base);
+        c->out = default_out;
+    }
     /* every check is done: only now create or truncate the output */
     if (csv_writer_open(&w, c->out, err, sizeof err) != 0) {
         fprintf(stderr, "eom-run: %s\n", err);

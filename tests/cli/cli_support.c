@@ -108,7 +108,21 @@ static const char *on_path(const char *prog, char *buf, size_t len)
     return prog;
 }
 
+static void run_full(result *r, const char *const *args, const char *path,
+                     const char *dir);
+
 void run_path(result *r, const char *const *args, const char *path)
+{
+    run_full(r, args, path, NULL);
+}
+
+void run_in(result *r, const char *const *args, const char *dir)
+{
+    run_full(r, args, NULL, dir);
+}
+
+static void run_full(result *r, const char *const *args, const char *path,
+                     const char *dir)
 {
     char out_path[300], err_path[300], wrap[1024], found[4096];
     const char *argv[64];
@@ -140,6 +154,8 @@ void run_path(result *r, const char *const *args, const char *path)
         if (fo < 0 || fe < 0 || dup2(fo, 1) < 0 || dup2(fe, 2) < 0)
             _exit(126);
         if (path && setenv("PATH", path, 1) != 0)
+            _exit(126);
+        if (dir && chdir(dir) != 0)
             _exit(126);
         /* execvp's argv is char *const[]: the strings are not modified */
         execvp(argv[0], (char *const *)(void *)argv);

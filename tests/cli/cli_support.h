@@ -38,6 +38,9 @@ char *read_file(const char *path, size_t *len);
  * PATH first). Exits the test on a failure to capture. */
 void run(result *r, const char *const *args);
 void run_path(result *r, const char *const *args, const char *path);
+/* The same with the working directory dir for the program (the program's
+ * path must then be absolute). */
+void run_in(result *r, const char *const *args, const char *dir);
 void result_free(result *r);
 
 /* s contains word (case-sensitive); 0 when s is NULL. */

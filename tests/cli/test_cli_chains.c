@@ -568,7 +568,7 @@ static void case_plots(void)
                           "0.02", "--plots", "--out", path, NULL};
     const char *open_args[] = {"open-chain", "--t-end", "0.1", "--plots",
                                "-q", "--out", path, NULL};
-    const char *no_out[] = {"closed-chain", "--plots", NULL};
+    const char *no_out[] = {"closed-chain", "--plots", "--modes", NULL};
     const char *sp[] = {"spring-pendulum", "--plots", "--out", path, NULL};
     size_t k;
     char *text;
@@ -578,7 +578,7 @@ static void case_plots(void)
     /* usage errors first: they need no gnuplot, and create nothing */
     run(&r, no_out);
     CHECK_INT(r.status, 2);
-    CHECK_HAS(r.err, "--plots needs --out");
+    CHECK_HAS(r.err, "--out and --plots belong to a run");
     CHECK(r.out[0] == '\0');
     result_free(&r);
     /* the spring pendulum's plots: energies and the bob's path */

@@ -1,0 +1,209 @@
+/* test_cli_models.c - eom-run on model files (docs/models.md), from the
+ * outside: a shipped model by name and by path, --list, --describe with
+ * the file's settings, --set of a setting that reshapes the model, a
+ * file with an error (file:line:col on stderr, exit status 1, no CSV),
+ * --modes of the double pendulum against its closed-form frequencies,
+ * and --plots without --out in a scratch directory.
+ *
+ * usage: test_cli_models EOM_RUN MODELS_DIR CASE */
+#define _XOPEN_SOURCE 700 /* realpath */
+#include <limits.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "check.h"
+#include "cli_support.h"
+
+static const char *models;
+
+static void model_path(char *buf, size_t len, const char *name)
+{
+    snprintf(buf, len, "%s/%s.eom", models, name);
+}
+
+static void case_list(void)
+{
+    const char *args[] = {"--list", NULL};
+    result r;
+    run(&r, args);
+    CHECK_INT(r.status, 0);
+    CHECK_HAS(r.out, "model files in");
+    CHECK_HAS(r.out, "cart-pole");
+    CHECK_HAS(r.out, "four-bar");
+    CHECK_HAS(r.out, "four-bar linkage");
+    result_free(&r);
+}
+
+static void case_describe(void)
+{
+    char path[1200];
+    const char *args[] = {path, "--describe", "--set", "links=2", NULL};
+    result r;
+    model_path(path, sizeof path, "open-chain");
+    run(&r, args);
+    CHECK_INT(r.status, 0);
+    CHECK_HAS(r.out, "links");
+    CHECK_HAS(r.out, "number of links");
+    CHECK_HAS(r.out, "theta2");
+    CHECK(!has(r.out, "theta3"));
+    CHECK_HAS(r.out, "q2_2");
+    CHECK_HAS(r.out, "N m^2");
+    result_free(&r);
+}
+
+/* By name (a shipped model no demo shadows), with a setting and a
+ * parameter; the CSV's columns follow the settings. */
+static void case_csv(void)
+{
+    char out[300];
+    const char *args[] = {"cart-pole", "--t-end", "0.5", "--set", "F=0",
+                          "--set", "theta=0.3", "--out", out, "-q", NULL};
+    const char *chain[] = {"open-chain.eom", NULL};
+    char *text, msg[256];
+    result r;
+    csv c;
+    scratch(out, sizeof out, "cp.csv");
+    run(&r, args);
+    CHECK_INT(r.status, 0);
+    result_free(&r);
+    text = read_file(out, NULL);
+    CHECK(text != NULL);
+    if (!text)
+        return;
+    if (csv_parse(text, &c, msg, sizeof msg) != 0) {
+        CHECK_FAIL_("%s", msg);
+    } else {
+        int th = csv_col(&c, "theta"), E = csv_col(&c, "E"),
+            W = csv_col(&c, "W");
+        CHECK_INT(c.nrows, 51);
+        CHECK(th >= 0 && E >= 0 && W >= 0 && csv_col(&c, "x_dot") >= 0);
+        if (th >= 0 && E >= 0 && W >= 0) {
+            CHECK(at(&c, 0, th) == 0.3);
+            /* no force: E + W stays */
+            CHECK_NEAR(at(&c, 50, E) + at(&c, 50, W), at(&c, 0, E), 1e-6);
+        }
+        free(c.v);
+    }
+    free(text);
+    /* a path that is not there */
+    run(&r, chain);
+    CHECK_INT(r.status, 1);
+    CHECK_HAS(r.err, "open-chain.eom: cannot open the model file");
+    result_free(&r);
+}
+
+/* A file with a mistake: the place, the line, the caret and the hint on
+ * stderr, status 1, nothing written. */
+static void case_error(void)
+{
+    char file[300], out[300];
+    const char *args[] = {file, "--out", out, NULL};
+    FILE *f;
+    result r;
+    struct stat st;
+    scratch(file, sizeof file, "bad.eom");
+    scratch(out, sizeof out, "bad.csv");
+    f = fopen(file, "w");
+    CHECK(f != NULL);
+    if (!f)
+        return;
+    fputs("param m = 1 [kg]\ncoord x = 0 [m]\nT = 1/2*m*x_dto^2\n", f);
+    fclose(f);
+    run(&r, args);
+    CHECK_INT(r.status, 1);
+    CHECK_HAS(r.err, "bad.eom:3:11: unknown name 'x_dto'");
+    CHECK_HAS(r.err, "  T = 1/2*m*x_dto^2\n            ^");
+    CHECK_HAS(r.err, "did you mean 'x_dot'?");
+    CHECK(stat(out, &st) != 0);
+    result_free(&r);
+    unlink(file);
+}
+
+/* Small oscillations of the double pendulum with equal masses and rods:
+ * omega^2 = (2 -+ sqrt 2) g / l. */
+static void case_modes(void)
+{
+    const char *args[] = {"double-pendulum", "--modes", NULL};
+    const double g = 9.81;
+    result r;
+    run(&r, args);
+    CHECK_INT(r.status, 0);
+    /* the rows of the table: "     1  OMEGA  F" */
+    CHECK_NEAR(number_after(r.out, "\n     1  "), sqrt((2 - sqrt(2.0)) * g),
+               1e-9);
+    CHECK_NEAR(number_after(r.out, "\n     2  "), sqrt((2 + sqrt(2.0)) * g),
+               1e-9);
+    result_free(&r);
+}
+
+/* --plots alone: NAME.csv and the plots in the current directory. */
+static void case_plots(void)
+{
+    char dir[300], file[400], path[1200];
+    const char *args[] = {path, "--t-end", "0.2", "--plots", "-q", NULL};
+    static const char *const made[] = {
+        "four-bar.csv", "four-bar-coordinates.png", "four-bar-energy.svg",
+        "four-bar-residuals.png", "four-bar-probes.gp"};
+    size_t k;
+    result r;
+    if (system("command -v gnuplot > /dev/null 2>&1") != 0) {
+        fprintf(stderr, "no gnuplot on PATH: the plots are not tested\n");
+        return;
+    }
+    model_path(path, sizeof path, "four-bar");
+    scratch(dir, sizeof dir, "plots");
+    CHECK(mkdir(dir, 0700) == 0);
+    run_in(&r, args, dir);
+    CHECK_INT(r.status, 0);
+    result_free(&r);
+    for (k = 0; k < sizeof made / sizeof made[0]; k++) {
+        struct stat st;
+        snprintf(file, sizeof file, "%s/%s", dir, made[k]);
+        CHECK(stat(file, &st) == 0 && st.st_size > 0);
+    }
+}
+
+static const struct {
+    const char *name;
+    void (*fn)(void);
+} cases[] = {
+    {"model_list", case_list},   {"model_describe", case_describe},
+    {"model_csv", case_csv},     {"model_error", case_error},
+    {"model_modes", case_modes}, {"model_plots", case_plots},
+};
+
+int main(int argc, char **argv)
+{
+    static char program[PATH_MAX], models_dir[PATH_MAX];
+    size_t i;
+    int found = 0;
+    if (argc < 4) {
+        fprintf(stderr, "usage: test_cli_models EOM_RUN MODELS_DIR CASE\n");
+        return EXIT_FAILURE;
+    }
+    /* absolute: the plots case runs the program in another directory */
+    cli_program = realpath(argv[1], program);
+    models = realpath(argv[2], models_dir);
+    if (!cli_program || !models) {
+        fprintf(stderr, "test_cli_models: %s or %s not found\n", argv[1],
+                argv[2]);
+        return EXIT_FAILURE;
+    }
+    if (cli_setup() != 0)
+        return EXIT_FAILURE;
+    for (i = 0; i < sizeof cases / sizeof cases[0]; i++)
+        if (strcmp(cases[i].name, argv[3]) == 0) {
+            cases[i].fn();
+            found = 1;
+        }
+    cli_cleanup();
+    if (!found) {
+        fprintf(stderr, "test_cli_models: unknown case '%s'\n", argv[3]);
+        return EXIT_FAILURE;
+    }
+    CHECK_DONE();
+}
