@@ -3,8 +3,7 @@
  * with its damper and time-dependent force, and the double pendulum, at
  * states away from the initial one; then every shipped model is read,
  * built and integrated for 2 s with E + W conserved and, for the
- * four-bar linkage, the loop closed. Also the README's example, run from
- * a string. */
+ * four-bar linkage, the loop closed. Also the model in README.md. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -178,26 +177,36 @@ static void run_all(void)
     }
 }
 
-/* The README's example, as a newcomer copies it. */
-static void readme_example(void)
+/* The README's example, as a newcomer copies it: the first block after
+ * the heading "## A model in a few lines". */
+static void readme_example(const char *readme)
 {
-    static const char text[] =
-        "# spring pendulum\n"
-        "param m  = 1    [kg]\n"
-        "param k  = 75   [N/m]\n"
-        "param r0 = 1    [m]\n"
-        "param g  = 9.81 [m/s^2]\n"
-        "coord r     = 1.1 [m]\n"
-        "coord theta = 0.5 [rad]\n"
-        "T = 1/2*m*(r_dot^2 + r^2*theta_dot^2)\n"
-        "V = 1/2*k*(r - r0)^2 + m*g*(r0 - r*cos(theta))\n";
-    char err[2048];
+    FILE *f = fopen(readme, "rb");
+    static char text[1 << 16];
+    char err[2048], *start, *end;
+    size_t n;
     eom_model *m = NULL;
     eom_system *s = NULL;
     double x[4], xd[4];
-    CHECK(eom_model_from_string(&m, text, err, sizeof err) == EOM_OK);
+    if (!f) {
+        CHECK_FAIL_("cannot open %s", readme);
+        return;
+    }
+    n = fread(text, 1, sizeof text - 1, f);
+    fclose(f);
+    text[n] = '\0';
+    start = strstr(text, "## A model in a few lines");
+    start = start ? strstr(start, "```\n") : NULL;
+    end = start ? strstr(start + 4, "\n```") : NULL;
+    if (!start || !end) {
+        CHECK_FAIL_("%s: no model block after its heading", readme);
+        return;
+    }
+    end[1] = '\0';
+    CHECK(eom_model_from_string(&m, start + 4, err, sizeof err) == EOM_OK);
     CHECK(eom_system_new(&s, m, err, sizeof err) == EOM_OK);
     if (s) {
+        CHECK_INT(eom_system_ncoords(s), 2);
         CHECK(eom_initial_state(s, x) == EOM_OK);
         CHECK(eom_rhs(s, 0.0, x, xd) == EOM_OK);
         CHECK_NEAR(xd[2], -75.0 * 0.1 + 9.81 * cos(0.5), 1e-14);
@@ -213,6 +222,6 @@ int main(int argc, char **argv)
     cart_pole();
     double_pendulum();
     run_all();
-    readme_example();
+    readme_example(argc > 2 ? argv[2] : "README.md");
     CHECK_DONE();
 }
