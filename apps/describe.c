@@ -6,8 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "columns.h"
-#include "numtext.h"
+#include "eom/run.h"
 
 enum { CELL = 96 };
 
@@ -57,12 +56,12 @@ static void table_print(FILE *f, const table *t)
 static void value_text(char *buf, size_t len, double dflt, double used)
 {
     char a[32], b[32];
-    numtext_format(a, sizeof a, dflt);
+    eom_numtext_format(a, sizeof a, dflt);
     if (used == dflt) {
         snprintf(buf, len, "%s", a);
         return;
     }
-    numtext_format(b, sizeof b, used);
+    eom_numtext_format(b, sizeof b, used);
     snprintf(buf, len, "%s (set: %s)", a, b);
 }
 
@@ -96,8 +95,8 @@ static int describe_settings(FILE *f, const demo *d, const double *settings)
         char val[CELL], lo[32], hi[32], range[CELL];
         const char *row[6];
         value_text(val, sizeof val, st->dflt, settings[k]);
-        numtext_format(lo, sizeof lo, st->min);
-        numtext_format(hi, sizeof hi, st->max);
+        eom_numtext_format(lo, sizeof lo, st->min);
+        eom_numtext_format(hi, sizeof hi, st->max);
         snprintf(range, sizeof range, "%s .. %s", lo, hi);
         row[0] = st->name;
         row[1] = val;
@@ -205,7 +204,7 @@ static void describe_outputs(FILE *f, const eom_system *s)
 int describe_demo(FILE *f, const demo *d, const double *settings,
                   const eom_system *s, const double *x0)
 {
-    columns *c = NULL;
+    eom_run_columns *c = NULL;
     char err[256];
     int i;
     fprintf(f, "%s: %s\n\n", d->name, d->summary);
@@ -219,7 +218,7 @@ int describe_demo(FILE *f, const demo *d, const double *settings,
         return -1;
     fputc('\n', f);
     describe_outputs(f, s);
-    if (columns_new(&c, s, err, sizeof err) != 0) {
+    if (eom_run_columns_new(&c, s, err, sizeof err) != 0) {
         fprintf(f, "CSV columns: (%s)\n", err);
         return 0;
     }
@@ -227,6 +226,6 @@ int describe_demo(FILE *f, const demo *d, const double *settings,
     for (i = 0; i < c->count; i++)
         fprintf(f, "%s%s", i ? "," : "", c->names[i]);
     fputc('\n', f);
-    columns_free(&c);
+    eom_run_columns_free(&c);
     return 0;
 }

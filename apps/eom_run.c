@@ -5,8 +5,9 @@
  * docs/csv.md), optionally with plots beside it (--plots), or print its
  * equilibrium and natural frequencies instead (--modes). This file reads
  * the command line and puts the pieces together; the demos live in
- * demos/, the run itself in run_loop.c, the start of a constrained run in
- * start_state.c, --modes in modes_report.c.
+ * demos/, the run itself, the start of a constrained run, the CSV and the
+ * generic plots in the run layer (eom/run.h, libeom/run/), --modes in
+ * modes_report.c.
  *
  * Exit status: 0 success, 1 the run failed (model, initial projection,
  * integrator, output file, plots; with --modes: no equilibrium), 2 the
@@ -19,16 +20,13 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "csv_writer.h"
+#include "eom/run.h"
 #include "demos/demos.h"
 #include "demos/file_demo.h"
 #include "describe.h"
 #include "eom/eom.h"
 #include "modes_report.h"
-#include "numtext.h"
 #include "overrides.h"
-#include "run_loop.h"
-#include "start_state.h"
 
 enum { EXIT_RUN = 1, EXIT_USAGE = 2 };
 
@@ -190,10 +188,10 @@ static int number_arg(const char *opt, const char *text, int positive,
                       double *out)
 {
     double v;
-    int rc = numtext_parse_double(text, &v);
-    if (rc != NUMTEXT_OK)
+    int rc = eom_numtext_parse_double(text, &v);
+    if (rc != EOM_NUMTEXT_OK)
         return usage_error("%s '%s': the value %s", opt, text,
-                           numtext_error(rc));
+                           eom_numtext_error(rc));
     if (positive ? !(v > 0.0) : !(v >= 0.0))
         return usage_error("%s '%s': the value must be %s", opt, text,
                            positive ? "> 0" : ">= 0");
@@ -231,10 +229,10 @@ static int integrator_arg(const char *text, eom_method *out)
 static int max_steps_arg(const char *text, long *out)
 {
     long v;
-    int rc = numtext_parse_long(text, &v);
-    if (rc != NUMTEXT_OK)
+    int rc = eom_numtext_parse_long(text, &v);
+    if (rc != EOM_NUMTEXT_OK)
         return usage_error("--max-steps '%s': the value %s", text,
-                           numtext_error(rc));
+                           eom_numtext_error(rc));
     if (v < 1)
         return usage_error("--max-steps '%s': the value must be >= 1", text);
     *out = v;
@@ -376,11 +374,11 @@ static int run(cli *c, const demo *d)
 {
     eom_model *model = NULL;
     eom_system *s = NULL;
-    csv_writer *w = NULL;
+    eom_csv_writer *w = NULL;
     double *settings = NULL, *x0 = NULL;
     char err[4096], default_out[1100];
     int status = EXIT_RUN, n, rc;
-    run_plan plan;
+    eom_run_opts plan;
 
     if (c->modes && c->describe)
         return usage_error("--modes and --describe: give one of them");
@@ -462,7 +460,7 @@ static int run(cli *c, const demo *d)
                      : EXIT_RUN;
         goto done;
     }
-    if (start_state_prepare(s, x0, &c->opts, d->name) != 0)
+    if (eom_run_prepare_start(s, x0, &c->opts, "eom-run", d->name) != 0)
         goto done;
 
     /* --plots needs a CSV file to read back: NAME.csv here by default */
@@ -478,19 +476,21 @@ static int run(cli *c, const demo *d)
         c->out = default_out;
     }
     /* every check is done: only now create or truncate the output */
-    if (csv_writer_open(&w, c->out, err, sizeof err) != 0) {
+    if (eom_csv_writer_open(&w, c->out, err, sizeof err) != 0) {
         fprintf(stderr, "eom-run: %s\n", err);
         goto done;
     }
+    eom_run_opts_default(&plan);
+    plan.prog = "eom-run";
     plan.label = d->name;
     plan.t_end = c->t_end;
     plan.sample = c->sample;
     plan.opts = c->opts;
     plan.quiet = c->quiet;
     plan.progress = isatty(STDERR_FILENO);
-    status = run_loop(s, x0, &plan, w) == 0 ? EXIT_SUCCESS : EXIT_RUN;
-    /* after a failure run_loop has said why: one message is enough */
-    if (csv_writer_close(&w, err, sizeof err) != 0 &&
+    status = eom_run(s, x0, &plan, w) == 0 ? EXIT_SUCCESS : EXIT_RUN;
+    /* after a failure eom_run has said why: one message is enough */
+    if (eom_csv_writer_close(&w, err, sizeof err) != 0 &&
         status == EXIT_SUCCESS) {
         fprintf(stderr, "eom-run: %s\n", err);
         status = EXIT_RUN;
@@ -516,7 +516,7 @@ static int run(cli *c, const demo *d)
         }
     }
 done:
-    csv_writer_close(&w, err, sizeof err);
+    eom_csv_writer_close(&w, err, sizeof err);
     eom_model_free(&model);
     eom_system_free(&s);
     free(settings);

@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "numtext.h"
+#include "eom/run.h"
 
 static const double two_pi = 6.28318530717958647692;
 
@@ -20,7 +20,7 @@ static void print_coords(FILE *f, const eom_system *s, const double *q)
     fprintf(f, "equilibrium coordinates:\n");
     for (i = 0; i < n; i++) {
         char v[32];
-        numtext_format(v, sizeof v, q[i]);
+        eom_numtext_format(v, sizeof v, q[i]);
         fprintf(f, "  %-*s  %-24s %s\n", w, eom_coord_name(s, i), v,
                 eom_coord_unit(s, i));
     }
@@ -44,7 +44,7 @@ static void print_frequencies(FILE *f, const eom_linear *lin)
     for (i = 0; i < lin->nr; i++) {
         const double w = lin->omega[i];
         char a[32], b[32];
-        numtext_format(a, sizeof a, w);
+        eom_numtext_format(a, sizeof a, w);
         if (fabs(w) <= MODES_NEUTRAL * wmax || wmax == 0.0) {
             neutral++;
             fprintf(f, "  %4d  %-24s  %-24s  neutral (about 0: a free "
@@ -54,7 +54,7 @@ static void print_frequencies(FILE *f, const eom_linear *lin)
             fprintf(f, "  %4d  %-24s  %-24s  UNSTABLE: grows like "
                     "exp(%.6g t)\n", i + 1, a, "-", -w);
         } else {
-            numtext_format(b, sizeof b, w / two_pi);
+            eom_numtext_format(b, sizeof b, w / two_pi);
             fprintf(f, "  %4d  %-24s  %s\n", i + 1, a, b);
         }
     }

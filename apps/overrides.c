@@ -5,7 +5,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "numtext.h"
+#include "eom/run.h"
 
 int override_parse(const char *arg, override *o, char *err, size_t errlen)
 {
@@ -20,10 +20,10 @@ int override_parse(const char *arg, override *o, char *err, size_t errlen)
         snprintf(err, errlen, "--set '%s': empty name before '='", arg);
         return -1;
     }
-    rc = numtext_parse_double(eq + 1, &o->value);
-    if (rc != NUMTEXT_OK) {
+    rc = eom_numtext_parse_double(eq + 1, &o->value);
+    if (rc != EOM_NUMTEXT_OK) {
         snprintf(err, errlen, "--set '%s': the value '%s' %s", arg, eq + 1,
-                 numtext_error(rc));
+                 eom_numtext_error(rc));
         return -1;
     }
     o->arg = arg;

@@ -21,7 +21,7 @@
 #include "bench_util.h"
 #include "eom/chain.h"
 #include "eom_internal.h"
-#include "gnuplot_run.h"
+#include "eom/run.h"
 
 static const double pi = 3.14159265358979323846;
 
@@ -141,7 +141,7 @@ static int write_plot(const char *dir, const point *p, int np)
             "  unset multiplot\n"
             "}\n", kmax, kmax);
     fclose(f);
-    if (gnuplot_run(dir, "growth.gp", err, sizeof err) != 0) {
+    if (eom_gnuplot_run(dir, "growth.gp", err, sizeof err) != 0) {
         fprintf(stderr, "bench-growth: %s\n", err);
         return -1;
     }

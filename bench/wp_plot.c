@@ -12,7 +12,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "gnuplot_run.h"
+#include "eom/run.h"
 
 static int path_of(char *buf, size_t len, const char *dir, const char *demo,
                    const char *suffix, char *err, size_t errlen)
@@ -167,5 +167,5 @@ int wp_plot_draw(const char *dir, const wp_sweep *w, char *err,
 {
     char script[512];
     snprintf(script, sizeof script, "%s-wp.gp", w->demo);
-    return gnuplot_run(dir, script, err, errlen);
+    return eom_gnuplot_run(dir, script, err, errlen);
 }

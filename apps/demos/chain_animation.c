@@ -230,9 +230,9 @@ static void put_chain(FILE *f, const chain_shape *c, double exaggeration)
 
 /* One line per frame: t, the angles, then the modal amplitudes link by
  * link, the order shape() in the page reads them. */
-static void put_frames(FILE *f, const chain_shape *c, const csv_table *t)
+static void put_frames(FILE *f, const chain_shape *c, const eom_csv_table *t)
 {
-    const int tcol = csv_table_col(t, "t");
+    const int tcol = eom_csv_table_col(t, "t");
     const int stride = t->nrows > CHAIN_ANIMATION_MAX_FRAMES
                            ? (t->nrows + CHAIN_ANIMATION_MAX_FRAMES - 2) /
                                  (CHAIN_ANIMATION_MAX_FRAMES - 1)
@@ -243,15 +243,15 @@ static void put_frames(FILE *f, const chain_shape *c, const csv_table *t)
         /* the last frame is the end of the run, whatever the stride */
         const int r = i + stride >= t->nrows ? t->nrows - 1 : i;
         fputc('[', f);
-        put_number(f, csv_table_at(t, r, tcol));
+        put_number(f, eom_csv_table_at(t, r, tcol));
         for (j = 0; j < c->links; j++) {
             fputc(',', f);
-            put_number(f, csv_table_at(t, r, c->theta_col[j]));
+            put_number(f, eom_csv_table_at(t, r, c->theta_col[j]));
         }
         for (j = 0; j < c->links; j++)
             for (k = 0; k < c->modes[j]; k++) {
                 fputc(',', f);
-                put_number(f, csv_table_at(t, r,
+                put_number(f, eom_csv_table_at(t, r,
                                            c->q_col[c->q_first[j] + k]));
             }
         fputs("],\n", f);
@@ -262,12 +262,12 @@ static void put_frames(FILE *f, const chain_shape *c, const csv_table *t)
 }
 
 int chain_animation_write(const char *path, const chain_shape *c,
-                          const csv_table *t, const char *title,
+                          const eom_csv_table *t, const char *title,
                           double exaggeration, int gravity, char *err,
                           size_t errlen)
 {
     FILE *f;
-    if (t->nrows < 1 || csv_table_col(t, "t") < 0) {
+    if (t->nrows < 1 || eom_csv_table_col(t, "t") < 0) {
         snprintf(err, errlen, "the CSV has no rows or no column 't'");
         return -1;
     }

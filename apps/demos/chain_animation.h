@@ -13,7 +13,7 @@
 #include <stddef.h>
 
 #include "chain_shape.h"
-#include "csv_reader.h"
+#include "eom/run.h"
 
 /* The most frames embedded: longer runs are thinned evenly (the last row
  * is always kept). */
@@ -24,7 +24,7 @@
  * deflection scale; gravity 1 adds a note that gravity acts along -y.
  * Returns 0, or -1 with a message in err (errlen bytes). */
 int chain_animation_write(const char *path, const chain_shape *c,
-                          const csv_table *t, const char *title,
+                          const eom_csv_table *t, const char *title,
                           double exaggeration, int gravity, char *err,
                           size_t errlen);
 

@@ -67,7 +67,7 @@ int chain_snapshots_dat(const char *path, const plot_job *j, char *err,
                         size_t errlen)
 {
     const chain_shape *c = j->c;
-    const int tcol = csv_table_col(j->t, "t");
+    const int tcol = eom_csv_table_col(j->t, "t");
     int rows[CHAIN_PLOT_SNAPSHOTS], nsnap, k, l, p, maxnp = 2;
     double *pts, root[2];
     FILE *f;
@@ -92,7 +92,7 @@ int chain_snapshots_dat(const char *path, const plot_job *j, char *err,
     for (k = 0; k < nsnap; k++) {
         const int i = rows[k];
         fprintf(f, "%s# t = %.9g s\n", k ? "\n\n" : "",
-                tcol >= 0 ? csv_table_at(j->t, i, tcol) : 0.0);
+                tcol >= 0 ? eom_csv_table_at(j->t, i, tcol) : 0.0);
         root[0] = root[1] = 0.0;
         for (l = 0; l < c->links; l++) {
             const int np = chain_shape_npoints(c, l);
@@ -103,7 +103,7 @@ int chain_snapshots_dat(const char *path, const plot_job *j, char *err,
                         pts[4 * p + 1], pts[4 * p + 2], pts[4 * p + 3]);
         }
         fprintf(f, "\n\n# joints at t = %.9g s\n0 0\n",
-                tcol >= 0 ? csv_table_at(j->t, i, tcol) : 0.0);
+                tcol >= 0 ? eom_csv_table_at(j->t, i, tcol) : 0.0);
         root[0] = root[1] = 0.0;
         for (l = 0; l < c->links; l++) {
             chain_shape_link(c, j->t, i, l, root, NULL);
@@ -175,7 +175,7 @@ static void energy(FILE *f, const plot_job *j)
     for (l = 1; l <= np; l++) {
         char flex[64];
         snprintf(flex, sizeof flex, "T%d_flex", l);
-        const int has_flex = csv_table_col(j->t, flex) >= 0;
+        const int has_flex = eom_csv_table_col(j->t, flex) >= 0;
         fprintf(f, "set title 'link %d%s'\n", l,
                 j->c->modes[l - 1] ? "" : " (rigid)");
         fputs(has_flex ? "set y2tics; set y2label 'flexible (J)'\n"
@@ -196,7 +196,7 @@ static void snapshots(FILE *f, const plot_job *j)
 {
     static const char *const colors = "#1f77b4 #d62728 #2ca02c #9467bd "
                                       "#ff7f0e #8c564b #e377c2 #17becf";
-    const int tcol = csv_table_col(j->t, "t");
+    const int tcol = eom_csv_table_col(j->t, "t");
     int rows[CHAIN_PLOT_SNAPSHOTS], n = snapshot_rows(j->t->nrows, rows), k;
     head(f, j, "snapshots", "the deformed chain at several times", 1000,
          760);
@@ -208,7 +208,7 @@ static void snapshots(FILE *f, const plot_job *j)
     fprintf(f, "colors = '%s'\ntimes = '", colors);
     for (k = 0; k < n; k++)
         fprintf(f, "%s%.6g", k ? " " : "",
-                tcol >= 0 ? csv_table_at(j->t, rows[k], tcol) : 0.0);
+                tcol >= 0 ? eom_csv_table_at(j->t, rows[k], tcol) : 0.0);
     fputs("'\n", f);
     fprintf(f, "set title csv.sprintf(': the chain at %d times, deflection "
             "magnified %%g times', exaggeration)%s\n", n,
@@ -235,8 +235,8 @@ static void snapshots(FILE *f, const plot_job *j)
 
 static void total_energy(FILE *f, const plot_job *j)
 {
-    const int cE = csv_table_col(j->t, "E");
-    const double E0 = cE >= 0 ? csv_table_at(j->t, 0, cE) : 0.0;
+    const int cE = eom_csv_table_col(j->t, "E");
+    const double E0 = cE >= 0 ? eom_csv_table_at(j->t, 0, cE) : 0.0;
     head(f, j, "total-energy", "total energy E, dissipated work W and "
          "E + W", 1000, 760);
     fprintf(f, "# E at t = 0\nE0 = %.17g\n", E0);
@@ -268,7 +268,7 @@ static void residuals(FILE *f, const plot_job *j)
     int m = 0;
     for (;;) {
         snprintf(name, sizeof name, "phi%d", m + 1);
-        if (csv_table_col(j->t, name) < 0)
+        if (eom_csv_table_col(j->t, name) < 0)
             break;
         m++;
     }

@@ -10,7 +10,7 @@
 #include <stddef.h>
 
 #include "chain_shape.h"
-#include "csv_reader.h"
+#include "eom/run.h"
 
 /* At most this many links get a panel in the energy plot; the title says
  * when links were left out (the CSV has them all). */
@@ -20,7 +20,7 @@
 
 /* What every script needs (all borrowed). */
 typedef struct plot_job {
-    const csv_table *t;    /* the run's rows */
+    const eom_csv_table *t;    /* the run's rows */
     const chain_shape *c;  /* the chain's geometry */
     const char *csv_name;  /* the CSV's file name, as the scripts read it */
     const char *prefix;    /* output names: PREFIX-NAME.png, .svg */

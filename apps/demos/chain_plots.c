@@ -22,9 +22,7 @@
 #include "chain_animation.h"
 #include "chain_shape.h"
 #include "chain_plot_scripts.h"
-#include "csv_reader.h"
-#include "gnuplot_run.h"
-#include "plot_place.h"
+#include "eom/run.h"
 
 /* The plots, in the order they are made. */
 static const struct {
@@ -41,16 +39,16 @@ enum { NPLOTS = sizeof plots / sizeof plots[0] };
 int chain_plots_write(const eom_system *s, int links, const char *csv_path,
                       char *err, size_t errlen)
 {
-    csv_table *t = NULL;
+    eom_csv_table *t = NULL;
     chain_shape *c = NULL;
     plot_job job;
-    plot_place p;
+    eom_plot_place p;
     char path[8192], name[2048], msg[1024], title[1100];
     int rc = -1, k, kg;
 
-    if (plot_place_of(&p, csv_path, err, errlen) != 0)
+    if (eom_plot_place_of(&p, csv_path, err, errlen) != 0)
         return -1;
-    if (csv_table_read(&t, csv_path, msg, sizeof msg) != 0) {
+    if (eom_csv_table_read(&t, csv_path, msg, sizeof msg) != 0) {
         snprintf(err, errlen, "plots: reading '%s': %s", csv_path, msg);
         return -1;
     }
@@ -75,12 +73,12 @@ int chain_plots_write(const eom_system *s, int links, const char *csv_path,
      * (dir and prefix are bounded), but say so if it ever does not */
     snprintf(title, sizeof title, "%.1000s: the deformed chain over time",
              p.csv_name);
-    if (plot_place_path(&p, "animation.html", path, sizeof path) != 0)
+    if (eom_plot_place_path(&p, "animation.html", path, sizeof path) != 0)
         goto too_long;
     if (chain_animation_write(path, c, t, title, job.exaggeration,
                               job.gravity, err, errlen) != 0)
         goto done;
-    if (plot_place_path(&p, "snapshots.dat", path, sizeof path) != 0)
+    if (eom_plot_place_path(&p, "snapshots.dat", path, sizeof path) != 0)
         goto too_long;
     if (chain_snapshots_dat(path, &job, err, errlen) != 0)
         goto done;
@@ -88,7 +86,7 @@ int chain_plots_write(const eom_system *s, int links, const char *csv_path,
         if (plots[k].closed_only && !c->closed)
             continue;
         snprintf(name, sizeof name, "%s.gp", plots[k].name);
-        if (plot_place_path(&p, name, path, sizeof path) != 0)
+        if (eom_plot_place_path(&p, name, path, sizeof path) != 0)
             goto too_long;
         if (chain_plot_script(path, plots[k].name, &job, err, errlen) != 0)
             goto done;
@@ -97,7 +95,7 @@ int chain_plots_write(const eom_system *s, int links, const char *csv_path,
         if (plots[k].closed_only && !c->closed)
             continue;
         snprintf(name, sizeof name, "%s-%s.gp", p.prefix, plots[k].name);
-        if (gnuplot_run(p.dir, name, msg, sizeof msg) != 0) {
+        if (eom_gnuplot_run(p.dir, name, msg, sizeof msg) != 0) {
             snprintf(err, errlen, "plots: %s; the CSV, the gnuplot scripts "
                      "and the animation are written", msg);
             goto done;
@@ -109,6 +107,6 @@ too_long:
     snprintf(err, errlen, "plots: the path '%s' is too long", csv_path);
 done:
     chain_shape_free(&c);
-    csv_table_free(&t);
+    eom_csv_table_free(&t);
     return rc;
 }

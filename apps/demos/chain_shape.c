@@ -21,17 +21,17 @@ void chain_shape_free(chain_shape **c)
 }
 
 /* The CSV column called name, or -1 with a message. */
-static int column(const csv_table *t, const char *name, char *err,
+static int column(const eom_csv_table *t, const char *name, char *err,
                   size_t errlen)
 {
-    int k = csv_table_col(t, name);
+    int k = eom_csv_table_col(t, name);
     if (k < 0)
         snprintf(err, errlen, "the CSV has no column '%s'", name);
     return k;
 }
 
 int chain_shape_new(chain_shape **out, const eom_system *s, int links,
-                    const csv_table *t, char *err, size_t errlen)
+                    const eom_csv_table *t, char *err, size_t errlen)
 {
     chain_shape *c = calloc(1, sizeof *c);
     char name[64];
@@ -95,10 +95,10 @@ int chain_shape_npoints(const chain_shape *c, int j)
     return c->modes[j] > 0 ? 12 * c->modes[j] + 1 : 2;
 }
 
-void chain_shape_link(const chain_shape *c, const csv_table *t, int i, int j,
+void chain_shape_link(const chain_shape *c, const eom_csv_table *t, int i, int j,
                       double *root, double *pts)
 {
-    const double th = csv_table_at(t, i, c->theta_col[j]), L = c->L[j];
+    const double th = eom_csv_table_at(t, i, c->theta_col[j]), L = c->L[j];
     const double ex = cos(th), ey = sin(th);
     const int np = chain_shape_npoints(c, j);
     int p, k;
@@ -106,7 +106,7 @@ void chain_shape_link(const chain_shape *c, const csv_table *t, int i, int j,
         const double x = L * p / (np - 1.0);
         double v = 0.0;
         for (k = 0; k < c->modes[j]; k++)
-            v += csv_table_at(t, i, c->q_col[c->q_first[j] + k]) *
+            v += eom_csv_table_at(t, i, c->q_col[c->q_first[j] + k]) *
                  sin((k + 1) * pi * x / L);
         pts[4 * p + 0] = root[0] + x * ex;
         pts[4 * p + 1] = root[1] + x * ey;
@@ -117,7 +117,7 @@ void chain_shape_link(const chain_shape *c, const csv_table *t, int i, int j,
     root[1] += L * ey;
 }
 
-double chain_shape_exaggeration(const chain_shape *c, const csv_table *t)
+double chain_shape_exaggeration(const chain_shape *c, const eom_csv_table *t)
 {
     double vmax = 0.0, Lmax = 0.0, want, p10, f;
     int i, j, k;
@@ -127,7 +127,7 @@ double chain_shape_exaggeration(const chain_shape *c, const csv_table *t)
         for (j = 0; j < c->links; j++) {
             double sum = 0.0;
             for (k = 0; k < c->modes[j]; k++)
-                sum += fabs(csv_table_at(t, i, c->q_col[c->q_first[j] + k]));
+                sum += fabs(eom_csv_table_at(t, i, c->q_col[c->q_first[j] + k]));
             vmax = fmax(vmax, sum);
         }
     if (!(vmax > 0.0) || !isfinite(vmax))

@@ -18,7 +18,7 @@
 
 #include <stddef.h>
 
-#include "csv_reader.h"
+#include "eom/run.h"
 #include "eom/eom.h"
 
 typedef struct chain_shape {
@@ -37,7 +37,7 @@ typedef struct chain_shape {
  * shape in *out, or -1 with a message in err (errlen bytes) naming a
  * missing parameter or column. */
 int chain_shape_new(chain_shape **out, const eom_system *s, int links,
-                    const csv_table *t, char *err, size_t errlen);
+                    const eom_csv_table *t, char *err, size_t errlen);
 void chain_shape_free(chain_shape **c);
 
 /* Points drawn along link j: 2 for a rigid link, more with modes. */
@@ -48,13 +48,13 @@ int chain_shape_npoints(const chain_shape *c, int j);
  * evenly spaced from root to tip, the chord point (x, y) and the
  * deflection offset v n (dx, dy). pts may be NULL to advance root
  * only. */
-void chain_shape_link(const chain_shape *c, const csv_table *t, int i, int j,
+void chain_shape_link(const chain_shape *c, const eom_csv_table *t, int i, int j,
                       double *root, double *pts);
 
 /* A deflection scale for drawing: 1 when the largest deflection over all
  * rows (bounded by sum_i |q_{j,i}|) is already visible, else a round
  * number (1, 2 or 5 times a power of 10) that draws it at about a tenth
  * of the longest link. */
-double chain_shape_exaggeration(const chain_shape *c, const csv_table *t);
+double chain_shape_exaggeration(const chain_shape *c, const eom_csv_table *t);
 
 #endif /* APPS_CHAIN_SHAPE_H */

@@ -10,7 +10,7 @@
 
 #include "eom/model_file.h"
 #include "file_demo.h"
-#include "model_plots.h"
+#include "eom/run.h"
 
 /* What a file demo owns. */
 typedef struct file_data {
@@ -46,7 +46,7 @@ static int file_plots(const demo *d, const double *settings,
                       size_t errlen)
 {
     (void)settings;
-    return model_plots_write(d->name, s, csv_path, err, errlen);
+    return eom_run_plots(d->name, s, csv_path, err, errlen);
 }
 
 void file_demo_free(demo **d)

@@ -10,10 +10,8 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "csv_reader.h"
+#include "eom/run.h"
 #include "demos.h"
-#include "gnuplot_run.h"
-#include "plot_place.h"
 #include "spring_plots.h"
 
 /* The column numbers (from 1, as gnuplot counts) of the names needed. */
@@ -24,20 +22,20 @@ typedef struct cols {
 static int find_cols(const char *csv_path, cols *c, char *err,
                      size_t errlen)
 {
-    csv_table *tab = NULL;
+    eom_csv_table *tab = NULL;
     char msg[256];
-    if (csv_table_read(&tab, csv_path, msg, sizeof msg) != 0) {
+    if (eom_csv_table_read(&tab, csv_path, msg, sizeof msg) != 0) {
         snprintf(err, errlen, "plots: reading '%s': %s", csv_path, msg);
         return -1;
     }
-    c->t = csv_table_col(tab, "t") + 1;
-    c->r = csv_table_col(tab, "r") + 1;
-    c->theta = csv_table_col(tab, "theta") + 1;
-    c->T = csv_table_col(tab, "T") + 1;
-    c->V = csv_table_col(tab, "V") + 1;
-    c->E = csv_table_col(tab, "E") + 1;
-    c->W = csv_table_col(tab, "W") + 1;
-    csv_table_free(&tab);
+    c->t = eom_csv_table_col(tab, "t") + 1;
+    c->r = eom_csv_table_col(tab, "r") + 1;
+    c->theta = eom_csv_table_col(tab, "theta") + 1;
+    c->T = eom_csv_table_col(tab, "T") + 1;
+    c->V = eom_csv_table_col(tab, "V") + 1;
+    c->E = eom_csv_table_col(tab, "E") + 1;
+    c->W = eom_csv_table_col(tab, "W") + 1;
+    eom_csv_table_free(&tab);
     if (!c->t || !c->r || !c->theta || !c->T || !c->V || !c->E || !c->W) {
         snprintf(err, errlen, "plots: '%s' lacks a spring-pendulum column",
                  csv_path);
@@ -48,7 +46,7 @@ static int find_cols(const char *csv_path, cols *c, char *err,
 
 /* The frame every script shares: the CSV, a preamble, then the plot for
  * both terminals. */
-static void frame_begin(FILE *f, const plot_place *p, const char *name,
+static void frame_begin(FILE *f, const eom_plot_place *p, const char *name,
                         const char *what, const char *size,
                         const char *preamble)
 {
@@ -65,12 +63,12 @@ static void frame_begin(FILE *f, const plot_place *p, const char *name,
             name, size, p->prefix, name);
 }
 
-static int write_script(const plot_place *p, const char *name,
+static int write_script(const eom_plot_place *p, const char *name,
                         const cols *c, char *err, size_t errlen)
 {
     char path[8192];
     FILE *f;
-    if (plot_place_path(p, name, path, sizeof path - 4) != 0) {
+    if (eom_plot_place_path(p, name, path, sizeof path - 4) != 0) {
         snprintf(err, errlen, "plots: file names too long");
         return -1;
     }
@@ -126,14 +124,14 @@ int spring_plots_write(const demo *d, const double *settings,
                        const char *csv_path, char *err, size_t errlen)
 {
     static const char *const names[2] = {"energy", "path"};
-    plot_place p;
+    eom_plot_place p;
     cols c;
     char script[2048];
     int k;
     (void)d;
     (void)settings;
     (void)s;
-    if (plot_place_of(&p, csv_path, err, errlen) != 0 ||
+    if (eom_plot_place_of(&p, csv_path, err, errlen) != 0 ||
         find_cols(csv_path, &c, err, errlen) != 0)
         return -1;
     for (k = 0; k < 2; k++)
@@ -141,7 +139,7 @@ int spring_plots_write(const demo *d, const double *settings,
             return -1;
     for (k = 0; k < 2; k++) {
         snprintf(script, sizeof script, "%s-%s.gp", p.prefix, names[k]);
-        if (gnuplot_run(p.dir, script, err, errlen) != 0)
+        if (eom_gnuplot_run(p.dir, script, err, errlen) != 0)
             return -1;
     }
     return 0;

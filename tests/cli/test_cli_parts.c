@@ -11,7 +11,7 @@
 
 #include "check.h"
 #include "demos/demos.h"
-#include "numtext.h"
+#include "eom/run.h"
 #include "overrides.h"
 
 static void test_numtext(void)
@@ -21,21 +21,21 @@ static void test_numtext(void)
         int code;
         double value;
     } cases[] = {
-        {"75", NUMTEXT_OK, 75.0},
-        {"-0.5", NUMTEXT_OK, -0.5},
-        {"1e-3", NUMTEXT_OK, 1e-3},
-        {"0x1p-4", NUMTEXT_OK, 0.0625},
-        {"", NUMTEXT_EMPTY, 0},
-        {"abc", NUMTEXT_NOT_NUMBER, 0},
-        {" 5", NUMTEXT_NOT_NUMBER, 0},
-        {"5 ", NUMTEXT_TRAILING, 0},
-        {"5x", NUMTEXT_TRAILING, 0},
-        {"1,5", NUMTEXT_TRAILING, 0},
-        {"inf", NUMTEXT_NONFINITE, 0},
-        {"-infinity", NUMTEXT_NONFINITE, 0},
-        {"nan", NUMTEXT_NONFINITE, 0},
-        {"1e999", NUMTEXT_RANGE, 0},
-        {"-1e999", NUMTEXT_RANGE, 0},
+        {"75", EOM_NUMTEXT_OK, 75.0},
+        {"-0.5", EOM_NUMTEXT_OK, -0.5},
+        {"1e-3", EOM_NUMTEXT_OK, 1e-3},
+        {"0x1p-4", EOM_NUMTEXT_OK, 0.0625},
+        {"", EOM_NUMTEXT_EMPTY, 0},
+        {"abc", EOM_NUMTEXT_NOT_NUMBER, 0},
+        {" 5", EOM_NUMTEXT_NOT_NUMBER, 0},
+        {"5 ", EOM_NUMTEXT_TRAILING, 0},
+        {"5x", EOM_NUMTEXT_TRAILING, 0},
+        {"1,5", EOM_NUMTEXT_TRAILING, 0},
+        {"inf", EOM_NUMTEXT_NONFINITE, 0},
+        {"-infinity", EOM_NUMTEXT_NONFINITE, 0},
+        {"nan", EOM_NUMTEXT_NONFINITE, 0},
+        {"1e999", EOM_NUMTEXT_RANGE, 0},
+        {"-1e999", EOM_NUMTEXT_RANGE, 0},
     };
     size_t i;
     long l = 0;
@@ -43,33 +43,33 @@ static void test_numtext(void)
     unsigned long long seed = 12345;
     for (i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         double v = -7.0;
-        int rc = numtext_parse_double(cases[i].text, &v);
+        int rc = eom_numtext_parse_double(cases[i].text, &v);
         CHECK_INT(rc, cases[i].code);
-        if (cases[i].code == NUMTEXT_OK)
+        if (cases[i].code == EOM_NUMTEXT_OK)
             CHECK(v == cases[i].value);
         else
             CHECK(v == -7.0); /* untouched on failure */
-        CHECK(strlen(numtext_error(rc)) > 0);
+        CHECK(strlen(eom_numtext_error(rc)) > 0);
     }
-    CHECK_INT(numtext_parse_long("42", &l), NUMTEXT_OK);
+    CHECK_INT(eom_numtext_parse_long("42", &l), EOM_NUMTEXT_OK);
     CHECK_INT(l, 42);
-    CHECK_INT(numtext_parse_long("-3", &l), NUMTEXT_OK);
+    CHECK_INT(eom_numtext_parse_long("-3", &l), EOM_NUMTEXT_OK);
     CHECK_INT(l, -3);
-    CHECK_INT(numtext_parse_long("2.5", &l), NUMTEXT_NOT_INTEGER);
-    CHECK_INT(numtext_parse_long("1e3", &l), NUMTEXT_NOT_INTEGER);
-    CHECK_INT(numtext_parse_long("12a", &l), NUMTEXT_TRAILING);
-    CHECK_INT(numtext_parse_long(" 1", &l), NUMTEXT_NOT_NUMBER);
-    CHECK_INT(numtext_parse_long("", &l), NUMTEXT_EMPTY);
-    CHECK_INT(numtext_parse_long("99999999999999999999999", &l),
-              NUMTEXT_RANGE);
+    CHECK_INT(eom_numtext_parse_long("2.5", &l), EOM_NUMTEXT_NOT_INTEGER);
+    CHECK_INT(eom_numtext_parse_long("1e3", &l), EOM_NUMTEXT_NOT_INTEGER);
+    CHECK_INT(eom_numtext_parse_long("12a", &l), EOM_NUMTEXT_TRAILING);
+    CHECK_INT(eom_numtext_parse_long(" 1", &l), EOM_NUMTEXT_NOT_NUMBER);
+    CHECK_INT(eom_numtext_parse_long("", &l), EOM_NUMTEXT_EMPTY);
+    CHECK_INT(eom_numtext_parse_long("99999999999999999999999", &l),
+              EOM_NUMTEXT_RANGE);
 
-    numtext_format(buf, sizeof buf, 0.01);
+    eom_numtext_format(buf, sizeof buf, 0.01);
     CHECK(strcmp(buf, "0.01") == 0);
-    numtext_format(buf, sizeof buf, 3 * 0.1);
+    eom_numtext_format(buf, sizeof buf, 3 * 0.1);
     CHECK(strcmp(buf, "0.30000000000000004") == 0);
-    numtext_format(buf, sizeof buf, -NAN);
+    eom_numtext_format(buf, sizeof buf, -NAN);
     CHECK(strcmp(buf, "nan") == 0);
-    numtext_format(buf, sizeof buf, -INFINITY);
+    eom_numtext_format(buf, sizeof buf, -INFINITY);
     CHECK(strcmp(buf, "-inf") == 0);
     /* every double reads back exactly: random bit patterns */
     for (i = 0; i < 20000; i++) {
@@ -78,7 +78,7 @@ static void test_numtext(void)
         memcpy(&v, &seed, sizeof v);
         if (!isfinite(v))
             continue;
-        numtext_format(buf, sizeof buf, v);
+        eom_numtext_format(buf, sizeof buf, v);
         back = strtod(buf, NULL);
         check_count_++;
         if (memcmp(&back, &v, sizeof v) != 0)

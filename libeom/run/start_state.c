@@ -1,28 +1,32 @@
 /* start_state.c - projecting the initial state onto the constraints (see
- * start_state.h). */
-#include "start_state.h"
+ * eom/run.h). */
+#include "eom/run.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 
-int start_state_prepare(eom_system *s, double *x, const eom_opts *o,
-                        const char *label)
+int eom_run_prepare_start(eom_system *s, double *x, const eom_opts *o,
+                          const char *prog, const char *label)
 {
     const int m = eom_system_nconstraints(s);
+    if (!prog)
+        prog = "eom_run";
+    if (!label)
+        label = "model";
     double *phi, *phidot, pmax = 0.0, vmax = 0.0;
     int k, iters = 0, rc;
     if (m == 0)
         return 0;
     phi = malloc(2 * (size_t)m * sizeof(double));
     if (!phi) {
-        fprintf(stderr, "eom-run: out of memory\n");
+        fprintf(stderr, "%s: out of memory\n", prog);
         return 1;
     }
     phidot = phi + m;
     if (eom_residuals(s, x, phi, phidot) != EOM_OK) {
-        fprintf(stderr, "eom-run: %s: cannot evaluate the constraints at "
-                "the initial state: %s\n", label, eom_system_errmsg(s));
+        fprintf(stderr, "%s: %s: cannot evaluate the constraints at "
+                "the initial state: %s\n", prog, label, eom_system_errmsg(s));
         free(phi);
         return 1;
     }
@@ -34,10 +38,10 @@ int start_state_prepare(eom_system *s, double *x, const eom_opts *o,
     if (pmax <= o->proj_tol && vmax <= o->proj_tol)
         return 0;
     if (!o->project) {
-        fprintf(stderr, "eom-run: %s: warning: the initial state is off the "
+        fprintf(stderr, "%s: %s: warning: the initial state is off the "
                 "constraints (max |phi| = %.3g, max |C qd| = %.3g, tolerance "
                 "%.3g) and --no-project is given: the run starts off the "
-                "constraints\n", label, pmax, vmax, o->proj_tol);
+                "constraints\n", prog, label, pmax, vmax, o->proj_tol);
         return 0;
     }
     /* the least change of the coordinates the user gave (not the least
@@ -45,16 +49,16 @@ int start_state_prepare(eom_system *s, double *x, const eom_opts *o,
      * involve, such as the deflections of flexible links) */
     rc = eom_project_start(s, x, o->proj_tol, &iters);
     if (rc != EOM_OK) {
-        fprintf(stderr, "eom-run: %s: the initial state is off the "
+        fprintf(stderr, "%s: %s: the initial state is off the "
                 "constraints (max |phi| = %.3g, max |C qd| = %.3g) and "
-                "cannot be projected onto them: %s\n", label, pmax, vmax,
+                "cannot be projected onto them: %s\n", prog, label, pmax, vmax,
                 eom_system_errmsg(s));
         return 1;
     }
-    fprintf(stderr, "eom-run: %s: the initial state is off the constraints "
+    fprintf(stderr, "%s: %s: the initial state is off the constraints "
             "(max |phi| = %.3g, max |C qd| = %.3g, tolerance %.3g): "
             "projected onto phi = 0 and C qd = 0 by the least change of the "
-            "coordinates (%d iteration%s on q)\n", label, pmax, vmax,
+            "coordinates (%d iteration%s on q)\n", prog, label, pmax, vmax,
             o->proj_tol, iters, iters == 1 ? "" : "s");
     return 0;
 }

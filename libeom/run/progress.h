@@ -15,9 +15,11 @@ typedef struct progress {
     double t_end;  /* simulated end time, for the percentage */
     double start;  /* progress_clock() at progress_start */
     double last;   /* time of the last drawing */
+    const char *prog; /* the prefix of the line (borrowed) */
 } progress;
 
-void progress_start(progress *p, int enabled, double t_end);
+void progress_start(progress *p, int enabled, double t_end,
+                    const char *prog);
 /* The run has reached simulated time t. */
 void progress_update(progress *p, double t);
 /* Erase the line (before other messages and at the end). */

@@ -12,8 +12,10 @@ double progress_clock(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-void progress_start(progress *p, int enabled, double t_end)
+void progress_start(progress *p, int enabled, double t_end,
+                    const char *prog)
 {
+    p->prog = prog;
     p->enabled = enabled;
     p->shown = 0;
     p->t_end = t_end;
@@ -30,7 +32,7 @@ void progress_update(progress *p, double t)
         return;
     p->last = now;
     /* trailing blanks cover a longer line drawn before */
-    fprintf(stderr, "\reom-run: t = %.6g / %.6g (%.0f%%)    ", t, p->t_end,
+    fprintf(stderr, "\r%s: t = %.6g / %.6g (%.0f%%)    ", p->prog, t, p->t_end,
             p->t_end > 0.0 ? 100.0 * t / p->t_end : 100.0);
     fflush(stderr);
     p->shown = 1;

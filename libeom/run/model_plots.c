@@ -1,19 +1,16 @@
-/* model_plots.c - generic plots of any model's run (model_plots.h). The
+/* model_plots.c - generic plots of any model's run (eom/run.h). The
  * scripts read the CSV itself; its columns are found by name here and
  * written into the scripts by number, as gnuplot counts them (from 1). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "csv_reader.h"
-#include "gnuplot_run.h"
-#include "model_plots.h"
-#include "plot_place.h"
+#include "eom/run.h"
 
 /* Curves in one panel beyond which the key is left out. */
 #define MAX_KEY 12
 
-static void begin(FILE *f, const plot_place *p, const char *name,
+static void begin(FILE *f, const eom_plot_place *p, const char *name,
                   const char *label, const char *what, const char *size)
 {
     fprintf(f, "# %s of %s; rerun with: gnuplot %s-%s.gp\n"
@@ -41,11 +38,11 @@ static void title(FILE *f, const char *s)
     fputc('\'', f);
 }
 
-static FILE *open_script(const plot_place *p, const char *name, char *path,
+static FILE *open_script(const eom_plot_place *p, const char *name, char *path,
                          size_t len, char *err, size_t errlen)
 {
     FILE *f;
-    if (plot_place_path(p, name, path, len - 4) != 0) {
+    if (eom_plot_place_path(p, name, path, len - 4) != 0) {
         snprintf(err, errlen, "plots: file names too long");
         return NULL;
     }
@@ -66,11 +63,11 @@ static int close_script(FILE *f, const char *path, char *err, size_t errlen)
 
 /* Coordinates, one panel per distinct unit (at most 4; the rest share the
  * last). */
-static int coordinates(const plot_place *p, const char *label,
-                       const eom_system *s, const csv_table *tab, char *err,
+static int coordinates(const eom_plot_place *p, const char *label,
+                       const eom_system *s, const eom_csv_table *tab, char *err,
                        size_t errlen)
 {
-    const int n = eom_system_ncoords(s), t = csv_table_col(tab, "t") + 1;
+    const int n = eom_system_ncoords(s), t = eom_csv_table_col(tab, "t") + 1;
     const char *units[4];
     int nu = 0, i, u, *group = calloc((size_t)n + 1, sizeof(int));
     char path[8192];
@@ -109,7 +106,7 @@ static int coordinates(const plot_place *p, const char *label,
                 continue;
             fprintf(f, "%scsv every ::1 using %d:%d with lines title ",
                     first ? "" : ", \\\n       ", t,
-                    csv_table_col(tab, eom_coord_name(s, i)) + 1);
+                    eom_csv_table_col(tab, eom_coord_name(s, i)) + 1);
             title(f, eom_coord_name(s, i));
             first = 0;
         }
@@ -120,13 +117,13 @@ static int coordinates(const plot_place *p, const char *label,
     return close_script(f, path, err, errlen);
 }
 
-static int energy(const plot_place *p, const char *label,
-                  const eom_system *s, const csv_table *tab, char *err,
+static int energy(const eom_plot_place *p, const char *label,
+                  const eom_system *s, const eom_csv_table *tab, char *err,
                   size_t errlen)
 {
-    const int t = csv_table_col(tab, "t") + 1;
-    const int T = csv_table_col(tab, "T") + 1, V = csv_table_col(tab, "V") + 1;
-    const int E = csv_table_col(tab, "E") + 1, W = csv_table_col(tab, "W") + 1;
+    const int t = eom_csv_table_col(tab, "t") + 1;
+    const int T = eom_csv_table_col(tab, "T") + 1, V = eom_csv_table_col(tab, "V") + 1;
+    const int E = eom_csv_table_col(tab, "E") + 1, W = eom_csv_table_col(tab, "W") + 1;
     char path[8192];
     FILE *f = open_script(p, "energy", path, sizeof path, err, errlen);
     if (!f)
@@ -153,11 +150,11 @@ static int energy(const plot_place *p, const char *label,
     return close_script(f, path, err, errlen);
 }
 
-static int residuals(const plot_place *p, const char *label,
-                     const eom_system *s, const csv_table *tab, char *err,
+static int residuals(const eom_plot_place *p, const char *label,
+                     const eom_system *s, const eom_csv_table *tab, char *err,
                      size_t errlen)
 {
-    const int m = eom_system_nconstraints(s), t = csv_table_col(tab, "t") + 1;
+    const int m = eom_system_nconstraints(s), t = eom_csv_table_col(tab, "t") + 1;
     char path[8192], name[32];
     int k, first = 1;
     FILE *f = open_script(p, "residuals", path, sizeof path, err, errlen);
@@ -172,13 +169,13 @@ static int residuals(const plot_place *p, const char *label,
     for (k = 1; k <= m; k++) {
         int c;
         snprintf(name, sizeof name, "phi%d", k);
-        c = csv_table_col(tab, name) + 1;
+        c = eom_csv_table_col(tab, name) + 1;
         fprintf(f, "%scsv every ::1 using %d:(abs($%d) > 1e-17 ? abs($%d) "
                    ": 1e-17) with lines title '%s'",
                 first ? "" : ", \\\n       ", t, c, c, name);
         first = 0;
         snprintf(name, sizeof name, "phidot%d", k);
-        c = csv_table_col(tab, name) + 1;
+        c = eom_csv_table_col(tab, name) + 1;
         fprintf(f, ", \\\n       csv every ::1 using %d:(abs($%d) > 1e-17 ? "
                    "abs($%d) : 1e-17) with lines dt 2 title '%s'",
                 t, c, c, name);
@@ -187,11 +184,11 @@ static int residuals(const plot_place *p, const char *label,
     return close_script(f, path, err, errlen);
 }
 
-static int probes(const plot_place *p, const char *label,
-                  const eom_system *s, const csv_table *tab, char *err,
+static int probes(const eom_plot_place *p, const char *label,
+                  const eom_system *s, const eom_csv_table *tab, char *err,
                   size_t errlen)
 {
-    const int np = eom_system_nprobes(s), t = csv_table_col(tab, "t") + 1;
+    const int np = eom_system_nprobes(s), t = eom_csv_table_col(tab, "t") + 1;
     char path[8192];
     int k;
     FILE *f = open_script(p, "probes", path, sizeof path, err, errlen);
@@ -203,24 +200,24 @@ static int probes(const plot_place *p, const char *label,
     for (k = 0; k < np; k++) {
         fprintf(f, "%scsv every ::1 using %d:%d with lines title ",
                 k ? ", \\\n       " : "", t,
-                csv_table_col(tab, eom_probe_name(s, k)) + 1);
+                eom_csv_table_col(tab, eom_probe_name(s, k)) + 1);
         title(f, eom_probe_name(s, k));
     }
     fprintf(f, "\n}\n");
     return close_script(f, path, err, errlen);
 }
 
-int model_plots_write(const char *label, const eom_system *s,
+int eom_run_plots(const char *label, const eom_system *s,
                       const char *csv_path, char *err, size_t errlen)
 {
     const char *names[4];
-    plot_place p;
-    csv_table *tab = NULL;
+    eom_plot_place p;
+    eom_csv_table *tab = NULL;
     char msg[256], script[2048];
     int k, n = 0, rc = 0;
-    if (plot_place_of(&p, csv_path, err, errlen) != 0)
+    if (eom_plot_place_of(&p, csv_path, err, errlen) != 0)
         return -1;
-    if (csv_table_read(&tab, csv_path, msg, sizeof msg) != 0) {
+    if (eom_csv_table_read(&tab, csv_path, msg, sizeof msg) != 0) {
         snprintf(err, errlen, "plots: reading '%s': %s", csv_path, msg);
         return -1;
     }
@@ -236,10 +233,10 @@ int model_plots_write(const char *label, const eom_system *s,
         names[n++] = "probes";
         rc = probes(&p, label, s, tab, err, errlen);
     }
-    csv_table_free(&tab);
+    eom_csv_table_free(&tab);
     for (k = 0; k < n && rc == 0; k++) {
         snprintf(script, sizeof script, "%s-%s.gp", p.prefix, names[k]);
-        rc = gnuplot_run(p.dir, script, err, errlen);
+        rc = eom_gnuplot_run(p.dir, script, err, errlen);
     }
     return rc ? -1 : 0;
 }

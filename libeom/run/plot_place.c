@@ -1,10 +1,10 @@
-/* plot_place.c - names of the plot files beside a CSV (plot_place.h). */
-#include "plot_place.h"
+/* plot_place.c - names of the plot files beside a CSV (eom/run.h). */
+#include "eom/run.h"
 
 #include <stdio.h>
 #include <string.h>
 
-int plot_place_of(plot_place *p, const char *csv_path, char *err,
+int eom_plot_place_of(eom_plot_place *p, const char *csv_path, char *err,
                   size_t errlen)
 {
     const char *slash = strrchr(csv_path, '/');
@@ -27,7 +27,7 @@ int plot_place_of(plot_place *p, const char *csv_path, char *err,
     return 0;
 }
 
-int plot_place_path(const plot_place *p, const char *suffix, char *buf,
+int eom_plot_place_path(const eom_plot_place *p, const char *suffix, char *buf,
                     size_t len)
 {
     int w = snprintf(buf, len, "%s/%s-%s", p->dir, p->prefix, suffix);

@@ -1,20 +1,19 @@
-/* csv_writer.c - writing eom-run's CSV (see csv_writer.h). */
-#include "csv_writer.h"
+/* csv_writer.c - writing eom-run's CSV (see eom/run.h). */
+#include "eom/run.h"
 
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "numtext.h"
 
-struct csv_writer {
+struct eom_csv_writer {
     FILE *f;
     int owned;        /* 1: opened here, fclose at the end */
     char where[4096]; /* "file 'PATH'" or "standard output", for messages */
 };
 
-static int write_fail(const csv_writer *w, int errnum, char *err,
+static int write_fail(const eom_csv_writer *w, int errnum, char *err,
                       size_t errlen)
 {
     snprintf(err, errlen, "cannot write to %s: %s", w->where,
@@ -22,10 +21,10 @@ static int write_fail(const csv_writer *w, int errnum, char *err,
     return -1;
 }
 
-int csv_writer_open(csv_writer **out, const char *path, char *err,
+int eom_csv_writer_open(eom_csv_writer **out, const char *path, char *err,
                     size_t errlen)
 {
-    csv_writer *w = calloc(1, sizeof *w);
+    eom_csv_writer *w = calloc(1, sizeof *w);
     *out = NULL;
     if (!w) {
         snprintf(err, errlen, "out of memory");
@@ -49,7 +48,7 @@ int csv_writer_open(csv_writer **out, const char *path, char *err,
     return 0;
 }
 
-int csv_writer_header(csv_writer *w, char *const *names, int count,
+int eom_csv_writer_header(eom_csv_writer *w, char *const *names, int count,
                       char *err, size_t errlen)
 {
     int i;
@@ -63,14 +62,14 @@ int csv_writer_header(csv_writer *w, char *const *names, int count,
     return ferror(w->f) ? write_fail(w, errno, err, errlen) : 0;
 }
 
-int csv_writer_row(csv_writer *w, const double *v, int count, char *err,
+int eom_csv_writer_row(eom_csv_writer *w, const double *v, int count, char *err,
                    size_t errlen)
 {
     char num[32];
     int i;
     errno = 0;
     for (i = 0; i < count; i++) {
-        numtext_format(num, sizeof num, v[i]);
+        eom_numtext_format(num, sizeof num, v[i]);
         if (i > 0)
             putc(',', w->f);
         fputs(num, w->f);
@@ -79,7 +78,7 @@ int csv_writer_row(csv_writer *w, const double *v, int count, char *err,
     return ferror(w->f) ? write_fail(w, errno, err, errlen) : 0;
 }
 
-int csv_writer_flush(csv_writer *w, char *err, size_t errlen)
+int eom_csv_writer_flush(eom_csv_writer *w, char *err, size_t errlen)
 {
     errno = 0;
     if (fflush(w->f) != 0 || ferror(w->f))
@@ -87,12 +86,12 @@ int csv_writer_flush(csv_writer *w, char *err, size_t errlen)
     return 0;
 }
 
-int csv_writer_close(csv_writer **w, char *err, size_t errlen)
+int eom_csv_writer_close(eom_csv_writer **w, char *err, size_t errlen)
 {
     int rc;
     if (!w || !*w)
         return 0;
-    rc = csv_writer_flush(*w, err, errlen);
+    rc = eom_csv_writer_flush(*w, err, errlen);
     if ((*w)->owned) {
         errno = 0;
         if (fclose((*w)->f) != 0 && rc == 0)

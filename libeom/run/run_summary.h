@@ -12,7 +12,7 @@
 
 #include <stdio.h>
 
-#include "columns.h"
+#include "eom/run.h"
 #include "eom/eom.h"
 
 typedef struct run_summary {
@@ -28,14 +28,15 @@ typedef struct run_summary {
 void run_summary_init(run_summary *r);
 
 /* A row at time t with dissipated work W was written; info as filled by
- * columns_fill (NaN values are ignored). */
+ * eom_run_columns_fill (NaN values are ignored). */
 void run_summary_add(run_summary *r, double t, double W,
-                     const row_info *info);
+                     const eom_run_row_info *info);
 
 /* The report on f: label (the demo) and method name, st (NULL when no
  * integrator was created), nconstraints of the system, wall the total
  * wall time in seconds. */
-void run_summary_print(const run_summary *r, FILE *f, const char *label,
+void run_summary_print(const run_summary *r, FILE *f, const char *prog,
+                       const char *label,
                        const char *method, const eom_stats *st,
                        int nconstraints, double wall);
 

@@ -15,7 +15,7 @@ void run_summary_init(run_summary *r)
     r->phidot_max = 0.0;
 }
 
-void run_summary_add(run_summary *r, double t, double W, const row_info *info)
+void run_summary_add(run_summary *r, double t, double W, const eom_run_row_info *info)
 {
     /* fmax ignores a NaN operand, so a row whose energies could not be
      * computed leaves the maxima alone */
@@ -29,7 +29,8 @@ void run_summary_add(run_summary *r, double t, double W, const row_info *info)
     r->phidot_max = fmax(r->phidot_max, info->phidot_max);
 }
 
-void run_summary_print(const run_summary *r, FILE *f, const char *label,
+void run_summary_print(const run_summary *r, FILE *f, const char *prog,
+                       const char *label,
                        const char *method, const eom_stats *st,
                        int nconstraints, double wall)
 {
@@ -38,7 +39,7 @@ void run_summary_print(const run_summary *r, FILE *f, const char *label,
     zero.min_rcond_S = 1.0;
     if (!st)
         st = &zero;
-    fprintf(f, "eom-run: %s with %s: %ld row%s, t = 0 .. %.10g\n", label,
+    fprintf(f, "%s: %s with %s: %ld row%s, t = 0 .. %.10g\n", prog, label,
             method, r->rows, r->rows == 1 ? "" : "s", r->t_last);
     fprintf(f, "  steps %ld, right-hand sides %ld, failed steps %ld, "
             "Jacobians %ld\n", st->steps, st->rhs_evals, st->failures,

@@ -1,6 +1,6 @@
 /* columns.c - CSV column names and row values for a system (see
- * columns.h). */
-#include "columns.h"
+ * eom/run.h). */
+#include "eom/run.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -27,7 +27,7 @@ static char *numbered(const char *base, int k)
     return join(base, num);
 }
 
-void columns_free(columns **c)
+void eom_run_columns_free(eom_run_columns **c)
 {
     int i;
     if (!c || !*c)
@@ -41,10 +41,10 @@ void columns_free(columns **c)
     *c = NULL;
 }
 
-int columns_new(columns **out, const eom_system *s, char *err, size_t errlen)
+int eom_run_columns_new(eom_run_columns **out, const eom_system *s, char *err, size_t errlen)
 {
     static const char *const fixed[] = {"T", "V", "E", "W"};
-    columns *c = calloc(1, sizeof *c);
+    eom_run_columns *c = calloc(1, sizeof *c);
     int i, j, k = 0;
     *out = NULL;
     if (!c)
@@ -80,19 +80,19 @@ int columns_new(columns **out, const eom_system *s, char *err, size_t errlen)
                 snprintf(err, errlen, "the CSV column name '%s' appears "
                          "twice (a coordinate or probe is named like "
                          "another column)", c->names[i]);
-                columns_free(&c);
+                eom_run_columns_free(&c);
                 return -1;
             }
     *out = c;
     return 0;
 nomem:
     snprintf(err, errlen, "out of memory");
-    columns_free(&c);
+    eom_run_columns_free(&c);
     return -1;
 }
 
 /* Note the first failure of a row (status rc, message of s). */
-static int row_fail(columns *c, const eom_system *s, int status, int rc)
+static int row_fail(eom_run_columns *c, const eom_system *s, int status, int rc)
 {
     if (status != EOM_OK)
         return status;
@@ -100,8 +100,8 @@ static int row_fail(columns *c, const eom_system *s, int status, int rc)
     return rc;
 }
 
-int columns_fill(columns *c, eom_system *s, double t, const double *x,
-                 double W, double *row, row_info *info)
+int eom_run_columns_fill(eom_run_columns *c, eom_system *s, double t, const double *x,
+                 double W, double *row, eom_run_row_info *info)
 {
     const int n = c->n, m = c->m;
     double *after = row + 1 + 2 * n; /* T, V, E, W, residuals, probes */

@@ -1,6 +1,6 @@
-/* csv_reader.c - reading eom-run's CSV back (see csv_reader.h). The file
+/* csv_reader.c - reading eom-run's CSV back (see eom/run.h). The file
  * is read whole, then cut in place into lines and fields. */
-#include "csv_reader.h"
+#include "eom/run.h"
 
 #include <errno.h>
 #include <limits.h>
@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-void csv_table_free(csv_table **t)
+void eom_csv_table_free(eom_csv_table **t)
 {
     int j;
     if (!t || !*t)
@@ -21,7 +21,7 @@ void csv_table_free(csv_table **t)
     *t = NULL;
 }
 
-int csv_table_col(const csv_table *t, const char *name)
+int eom_csv_table_col(const eom_csv_table *t, const char *name)
 {
     int j;
     for (j = 0; j < t->ncols; j++)
@@ -30,7 +30,7 @@ int csv_table_col(const csv_table *t, const char *name)
     return -1;
 }
 
-double csv_table_at(const csv_table *t, int i, int j)
+double eom_csv_table_at(const eom_csv_table *t, int i, int j)
 {
     return t->v[(size_t)i * (size_t)t->ncols + (size_t)j];
 }
@@ -112,7 +112,7 @@ static char *next_field(char **p)
     return f;
 }
 
-static int header(csv_table *t, char *line, char *err, size_t errlen)
+static int header(eom_csv_table *t, char *line, char *err, size_t errlen)
 {
     const char *c;
     char *p = line;
@@ -141,7 +141,7 @@ nomem:
 }
 
 /* Parse one data line (line number lineno) into row. */
-static int row(const csv_table *t, char *line, int lineno, double *out,
+static int row(const eom_csv_table *t, char *line, int lineno, double *out,
                char *err, size_t errlen)
 {
     char *p = line;
@@ -169,11 +169,11 @@ static int row(const csv_table *t, char *line, int lineno, double *out,
     return 0;
 }
 
-int csv_table_read(csv_table **out, const char *path, char *err,
+int eom_csv_table_read(eom_csv_table **out, const char *path, char *err,
                    size_t errlen)
 {
     char *text, *p, *line;
-    csv_table *t;
+    eom_csv_table *t;
     size_t cap = 0;
     int lineno = 1;
     *out = NULL;
@@ -220,6 +220,6 @@ int csv_table_read(csv_table **out, const char *path, char *err,
     return 0;
 fail:
     free(text);
-    csv_table_free(&t);
+    eom_csv_table_free(&t);
     return -1;
 }

@@ -1,4 +1,4 @@
-/* gnuplot_run.c - start gnuplot and wait for it (see gnuplot_run.h).
+/* gnuplot_run.c - start gnuplot and wait for it (see eom/run.h).
  *
  * The child reports why it could not start through a pipe that closes
  * on a successful exec (FD_CLOEXEC): the parent reads either nothing (gnuplot
@@ -6,7 +6,7 @@
  * apart from "gnuplot ran and failed", which an exit status alone cannot
  * do. */
 #define _POSIX_C_SOURCE 200809L
-#include "gnuplot_run.h"
+#include "eom/run.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -51,7 +51,7 @@ static void child(int fd, const char *dir, const char *script)
     _exit(127);
 }
 
-int gnuplot_run(const char *dir, const char *script, char *err,
+int eom_gnuplot_run(const char *dir, const char *script, char *err,
                 size_t errlen)
 {
     int fds[2], st;

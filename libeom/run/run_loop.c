@@ -1,7 +1,7 @@
-/* run_loop.c - integrate and write the rows (see run_loop.h). Every
+/* run_loop.c - integrate and write the rows (see eom/run.h). Every
  * integrator is driven the same way, through eom_integ_advance to each
  * sample time; nothing here depends on the method. */
-#include "run_loop.h"
+#include "eom/run.h"
 
 #include <float.h>
 #include <math.h>
@@ -9,12 +9,24 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "columns.h"
-#include "numtext.h"
 #include "progress.h"
 #include "run_summary.h"
 
-void run_grid(double t_end, double sample, long long *K, int *exact)
+/* The prefix of every message on standard error, and the model's name. */
+#define PROG(p) ((p)->prog ? (p)->prog : "eom_run")
+#define LABEL(p) ((p)->label ? (p)->label : "model")
+
+void eom_run_opts_default(eom_run_opts *o)
+{
+    if (!o)
+        return;
+    memset(o, 0, sizeof *o);
+    o->t_end = 10.0;
+    o->sample = 0.01;
+    eom_opts_default(&o->opts);
+}
+
+void eom_run_grid(double t_end, double sample, long long *K, int *exact)
 {
     /* a t_end that is a multiple of sample up to rounding must not get a
      * second row a hair after the last grid point */
@@ -29,10 +41,10 @@ void run_grid(double t_end, double sample, long long *K, int *exact)
 }
 
 typedef struct run_state {
-    const run_plan *p;
+    const eom_run_opts *p;
     eom_system *s;
-    csv_writer *w;
-    columns *cols;
+    eom_csv_writer *w;
+    eom_run_columns *cols;
     double *row;
     run_summary sum;
     progress prog;
@@ -43,28 +55,28 @@ typedef struct run_state {
 /* Write the row of (t, x, W). Returns 0, or 1 after a message. */
 static int emit(run_state *r, double t, const double *x, double W)
 {
-    row_info info;
-    int rc = columns_fill(r->cols, r->s, t, x, W, r->row, &info);
+    eom_run_row_info info;
+    int rc = eom_run_columns_fill(r->cols, r->s, t, x, W, r->row, &info);
     /* the state is data even when derived quantities failed: keep it */
-    if (csv_writer_row(r->w, r->row, r->cols->count, r->err,
+    if (eom_csv_writer_row(r->w, r->row, r->cols->count, r->err,
                        sizeof r->err) != 0) {
         progress_clear(&r->prog);
-        fprintf(stderr, "eom-run: %s\n", r->err);
+        fprintf(stderr, "%s: %s\n", PROG(r->p), r->err);
         return 1;
     }
     run_summary_add(&r->sum, t, W, &info);
     if (rc < 0) {
         char a[32];
-        numtext_format(a, sizeof a, t);
+        eom_numtext_format(a, sizeof a, t);
         progress_clear(&r->prog);
-        fprintf(stderr, "eom-run: %s: at t = %s the outputs could not be "
-                "evaluated: %s\n", r->p->label, a, r->cols->msg);
+        fprintf(stderr, "%s: %s: at t = %s the outputs could not be "
+                "evaluated: %s\n", PROG(r->p), LABEL(r->p), a, r->cols->msg);
         return 1;
     }
     if (progress_clock() - r->last_flush >= 1.0) {
-        if (csv_writer_flush(r->w, r->err, sizeof r->err) != 0) {
+        if (eom_csv_writer_flush(r->w, r->err, sizeof r->err) != 0) {
             progress_clear(&r->prog);
-            fprintf(stderr, "eom-run: %s\n", r->err);
+            fprintf(stderr, "%s: %s\n", PROG(r->p), r->err);
             return 1;
         }
         r->last_flush = progress_clock();
@@ -80,18 +92,18 @@ static int step_to(run_state *r, eom_integ *it, double tprev, double tout,
     int rc = eom_integ_advance(it, tout, x, W);
     if (rc < 0) {
         char a[32], b[32];
-        numtext_format(a, sizeof a, tprev);
-        numtext_format(b, sizeof b, tout);
+        eom_numtext_format(a, sizeof a, tprev);
+        eom_numtext_format(b, sizeof b, tout);
         progress_clear(&r->prog);
-        fprintf(stderr, "eom-run: %s: integration failed between t = %s "
-                "and t = %s: %s\n", r->p->label, a, b, eom_integ_errmsg(it));
+        fprintf(stderr, "%s: %s: integration failed between t = %s "
+                "and t = %s: %s\n", PROG(r->p), LABEL(r->p), a, b, eom_integ_errmsg(it));
         return 1;
     }
     return emit(r, tout, x, *W);
 }
 
-int run_loop(eom_system *s, const double *x0, const run_plan *p,
-             csv_writer *w)
+int eom_run(eom_system *s, const double *x0, const eom_run_opts *p,
+             eom_csv_writer *w)
 {
     const int n = eom_system_ncoords(s);
     const double wall0 = progress_clock();
@@ -107,32 +119,32 @@ int run_loop(eom_system *s, const double *x0, const run_plan *p,
     r.s = s;
     r.w = w;
     run_summary_init(&r.sum);
-    progress_start(&r.prog, p->progress && !p->quiet, p->t_end);
+    progress_start(&r.prog, p->progress && !p->quiet, p->t_end, PROG(p));
     r.last_flush = wall0;
-    run_grid(p->t_end, p->sample, &K, &exact);
+    eom_run_grid(p->t_end, p->sample, &K, &exact);
 
-    if (columns_new(&r.cols, s, r.err, sizeof r.err) != 0) {
-        fprintf(stderr, "eom-run: %s: %s\n", p->label, r.err);
+    if (eom_run_columns_new(&r.cols, s, r.err, sizeof r.err) != 0) {
+        fprintf(stderr, "%s: %s: %s\n", PROG(p), LABEL(p), r.err);
         return 1;
     }
     r.row = malloc((size_t)r.cols->count * sizeof(double));
     x = malloc(2 * (size_t)n * sizeof(double) + 1);
     if (!r.row || !x) {
-        fprintf(stderr, "eom-run: out of memory\n");
+        fprintf(stderr, "%s: out of memory\n", PROG(p));
         goto done;
     }
     memcpy(x, x0, 2 * (size_t)n * sizeof(double));
-    if (csv_writer_header(w, r.cols->names, r.cols->count, r.err,
+    if (eom_csv_writer_header(w, r.cols->names, r.cols->count, r.err,
                           sizeof r.err) != 0) {
-        fprintf(stderr, "eom-run: %s\n", r.err);
+        fprintf(stderr, "%s: %s\n", PROG(p), r.err);
         goto done;
     }
     if (emit(&r, 0.0, x, 0.0) != 0)
         goto done;
     if (K > 0 || !exact) {
         if (eom_integ_new(&it, s, &p->opts, 0.0, x) != EOM_OK) {
-            fprintf(stderr, "eom-run: %s: cannot start the %s integrator: "
-                    "%s\n", p->label, eom_method_name(p->opts.method),
+            fprintf(stderr, "%s: %s: cannot start the %s integrator: "
+                    "%s\n", PROG(p), LABEL(p), eom_method_name(p->opts.method),
                     eom_system_errmsg(s));
             goto done;
         }
@@ -147,21 +159,21 @@ int run_loop(eom_system *s, const double *x0, const run_plan *p,
         goto done;
     status = 0;
 done:
-    if (csv_writer_flush(w, r.err, sizeof r.err) != 0 && status == 0) {
-        fprintf(stderr, "eom-run: %s\n", r.err);
+    if (eom_csv_writer_flush(w, r.err, sizeof r.err) != 0 && status == 0) {
+        fprintf(stderr, "%s: %s\n", PROG(p), r.err);
         status = 1;
     }
     progress_clear(&r.prog);
     if (it)
         have_stats = eom_integ_stats(it, &st) == EOM_OK;
     if (!p->quiet)
-        run_summary_print(&r.sum, stderr, p->label,
+        run_summary_print(&r.sum, stderr, PROG(p), LABEL(p),
                           eom_method_name(p->opts.method),
                           have_stats ? &st : NULL,
                           eom_system_nconstraints(s),
                           progress_clock() - wall0);
     eom_integ_free(&it);
-    columns_free(&r.cols);
+    eom_run_columns_free(&r.cols);
     free(r.row);
     free(x);
     return status;

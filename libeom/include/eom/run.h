@@ -1,0 +1,222 @@
+/* run.h - the run layer: what eom-run gives a demo, for any program that
+ * builds its own system (library eomrun, pkg-config module libeomrun;
+ * docs/run.md).
+ *
+ *   eom_run            integrate a system from t = 0 to t_end, writing a
+ *                      CSV row at every sample time (the CSV contract of
+ *                      docs/csv.md), with a progress line and a summary
+ *                      (steps, right-hand sides, wall time, energy drift,
+ *                      constraint residuals) on standard error
+ *   eom_run_prepare_start   project a start that is off the constraints
+ *   eom_run_plots      the standard plots of a run beside its CSV
+ *                      (coordinates, energies, residuals, probes) with
+ *                      gnuplot
+ * and the pieces they are made of, for programs that write or plot their
+ * own: the CSV columns of a system and their values, a checked CSV writer
+ * and reader, strict number text, and running gnuplot on a script.
+ *
+ * Conventions as in libeom. Functions that can fail return 0, or -1 (or a
+ * libeom status where stated) with a message in err (errlen bytes) or on
+ * standard error where stated; none aborts. Messages on standard error
+ * start with the program name given in eom_run_opts.prog.
+ */
+#ifndef EOM_RUN_H
+#define EOM_RUN_H
+
+#include <stddef.h>
+
+#include "eom/eom.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- numbers as text ---------------------------------------------------- */
+
+/* Why a string is not accepted as a number. */
+enum {
+    EOM_NUMTEXT_OK = 0,
+    EOM_NUMTEXT_EMPTY,      /* "" */
+    EOM_NUMTEXT_NOT_NUMBER, /* does not start with a number (or starts with
+                               white space) */
+    EOM_NUMTEXT_TRAILING,   /* a number followed by other characters */
+    EOM_NUMTEXT_NONFINITE,  /* inf or nan */
+    EOM_NUMTEXT_RANGE,      /* too large for a double, or for a long */
+    EOM_NUMTEXT_NOT_INTEGER /* eom_numtext_parse_long: a fraction or
+                               exponent */
+};
+
+/* A short phrase for an EOM_NUMTEXT_* code ("is not a number", ...). */
+EOM_API const char *eom_numtext_error(int code);
+/* Parse all of s (borrowed) as a finite double into *out; returns an
+ * EOM_NUMTEXT_* code and leaves *out alone on failure. Decimal and
+ * hexadecimal floating forms as strtod reads them. */
+EOM_API int eom_numtext_parse_double(const char *s, double *out);
+/* Parse all of s as a decimal integer (optional sign, digits only). */
+EOM_API int eom_numtext_parse_long(const char *s, long *out);
+/* The shortest of %.15g, %.16g and %.17g that reads back as exactly v;
+ * "nan", "inf" or "-inf" for non-finite values. buf needs 32 bytes. */
+EOM_API void eom_numtext_format(char *buf, size_t len, double v);
+
+/* ---- CSV output ----------------------------------------------------------- */
+
+/* A header row of names, then rows of numbers in the shortest form that
+ * reads back exactly, separated by ',' and ended by '\n'. Names are
+ * written as given (C identifiers need no quoting). Every write is
+ * checked, so a full disk or a closed pipe is an error the caller sees. */
+typedef struct eom_csv_writer eom_csv_writer;
+
+/* Open path (created or truncated), or standard output when path is
+ * NULL. */
+EOM_API int eom_csv_writer_open(eom_csv_writer **out, const char *path,
+                                char *err, size_t errlen);
+/* The header row: count names (borrowed). */
+EOM_API int eom_csv_writer_header(eom_csv_writer *w, char *const *names,
+                                  int count, char *err, size_t errlen);
+/* One row of count values. */
+EOM_API int eom_csv_writer_row(eom_csv_writer *w, const double *v,
+                               int count, char *err, size_t errlen);
+/* Push buffered rows to the file. */
+EOM_API int eom_csv_writer_flush(eom_csv_writer *w, char *err,
+                                 size_t errlen);
+/* Flush and close (standard output is flushed, not closed); *w becomes
+ * NULL; NULL-safe. -1 when data could not be written. */
+EOM_API int eom_csv_writer_close(eom_csv_writer **w, char *err,
+                                 size_t errlen);
+
+/* ---- the CSV contract (docs/csv.md) ------------------------------------- */
+
+/* The columns of a system's CSV, in this order:
+ *   t, q_1 .. q_n (coordinate names), NAME_dot for each rate,
+ *   T, V, E, W, phi1 .. phiM, phidot1 .. phidotM, probes by name
+ * (the phi groups are absent without constraints). */
+typedef struct eom_run_columns {
+    int n, m, nprobes;    /* coordinates, constraints, probes */
+    int count;            /* columns: 1 + 2n + 4 + 2m + nprobes */
+    char **names;         /* [count] column names (owned) */
+    double *phi, *phidot; /* [m] scratch */
+    char msg[512];        /* why the last eom_run_columns_fill failed */
+} eom_run_columns;
+
+/* What a row holds besides its values. */
+typedef struct eom_run_row_info {
+    eom_energy e;      /* energies at the row's state (NaN if not computed) */
+    double phi_max;    /* max |phi_k|, 0 without constraints */
+    double phidot_max; /* max |(C qd)_k| */
+} eom_run_row_info;
+
+/* The columns of s (borrowed; only read). Every name must be unique: a
+ * coordinate or probe named like a fixed column is an error. */
+EOM_API int eom_run_columns_new(eom_run_columns **out, const eom_system *s,
+                                char *err, size_t errlen);
+EOM_API void eom_run_columns_free(eom_run_columns **c);
+/* Fill row (c->count values) for time t, state x (2n values) and work W;
+ * *info receives the energies and largest residuals. Returns EOM_OK, or
+ * the first failing libeom status with its message in c->msg and the
+ * values that could not be computed set to NaN. */
+EOM_API int eom_run_columns_fill(eom_run_columns *c, eom_system *s,
+                                 double t, const double *x, double W,
+                                 double *row, eom_run_row_info *info);
+
+/* ---- a run ------------------------------------------------------------------ */
+
+typedef struct eom_run_opts {
+    const char *prog;  /* prefix of the messages (NULL: "eom_run") */
+    const char *label; /* the model's name in messages (NULL: "model") */
+    double t_end;      /* >= 0 */
+    double sample;     /* > 0: rows at k * sample (see eom_run_grid) */
+    eom_opts opts;     /* passed to eom_integ_new as they are */
+    int quiet;         /* no summary */
+    int progress;      /* draw a progress line on standard error (for a
+                          terminal: the caller decides, e.g. isatty) */
+} eom_run_opts;
+
+/* Defaults: t_end 10, sample 0.01, eom_opts_default, not quiet, no
+ * progress line. */
+EOM_API void eom_run_opts_default(eom_run_opts *o);
+
+/* The sample grid: t_k = k * sample for k = 0 .. *K, each computed as
+ * that product in double precision, where K is the largest k with t_k <=
+ * t_end; t_end counts as on the grid (*exact = 1) when it is within 1e-9
+ * sample intervals (or a few rounding errors of t_end) of a multiple.
+ * Otherwise one more row follows at t_end exactly. Valid for t_end /
+ * sample <= 1e12. */
+EOM_API void eom_run_grid(double t_end, double sample, long long *K,
+                          int *exact);
+
+/* Integrate s (borrowed) from (0, x0) as o says, writing the header and
+ * the rows to w (borrowed; flushed at least once a second and before
+ * returning, not closed). Messages and the summary go to standard error.
+ * Returns 0, or 1 after a message on a failure (integrator, evaluation or
+ * write): the rows before the failure are in w. */
+EOM_API int eom_run(eom_system *s, const double *x0, const eom_run_opts *o,
+                    eom_csv_writer *w);
+
+/* Check, and project when o->project is set, the start x (2n values,
+ * updated in place) of a constrained system with tolerance o->proj_tol:
+ * if max |phi| or max |C qd| exceeds it, x is projected onto phi = 0 and
+ * C qd = 0 by the least change of the coordinates (eom_project_start)
+ * and one line on standard error says so; with o->project off a warning
+ * says that the run starts off the constraints. Returns 0 (x is the state
+ * to start from), or 1 after a message. prog and label as in
+ * eom_run_opts (NULL: the defaults). */
+EOM_API int eom_run_prepare_start(eom_system *s, double *x,
+                                  const eom_opts *o, const char *prog,
+                                  const char *label);
+
+/* ---- plots ------------------------------------------------------------------- */
+
+/* The standard plots of a run of s whose CSV is at csv_path, beside it
+ * under the CSV's name without ".csv" (PREFIX), each as .png and .svg
+ * from a kept gnuplot script: PREFIX-coordinates (one panel per unit),
+ * PREFIX-energy (T, V, E, W, E + W and the drift of E + W), and when s
+ * has them PREFIX-residuals and PREFIX-probes. label titles them. Needs
+ * gnuplot on PATH (the message says when it is missing). */
+EOM_API int eom_run_plots(const char *label, const eom_system *s,
+                          const char *csv_path, char *err, size_t errlen);
+
+/* Where the plots of a CSV go: for csv_path DIR/NAME.csv the files are
+ * DIR/NAME-SUFFIX; a script names the CSV within DIR, as gnuplot runs
+ * there. */
+typedef struct eom_plot_place {
+    char dir[4096];      /* no trailing '/' ("." for the current one) */
+    char prefix[1024];   /* the CSV's name without ".csv" */
+    char csv_name[1024]; /* the CSV's name within dir */
+} eom_plot_place;
+EOM_API int eom_plot_place_of(eom_plot_place *p, const char *csv_path,
+                              char *err, size_t errlen);
+/* dir/prefix-suffix into buf; -1 if it does not fit. */
+EOM_API int eom_plot_place_path(const eom_plot_place *p, const char *suffix,
+                                char *buf, size_t len);
+
+/* Run `gnuplot script` in the directory dir (both borrowed) and wait for
+ * it: found on PATH, started directly (no shell), standard input
+ * /dev/null, its messages on standard error. -1 with a message that says
+ * whether gnuplot could not be started (not installed) or failed. */
+EOM_API int eom_gnuplot_run(const char *dir, const char *script, char *err,
+                            size_t errlen);
+
+/* ---- CSV input ---------------------------------------------------------------- */
+
+/* A CSV of a header row and rows of numbers, read whole. Accepted: '\n'
+ * or "\r\n" line ends, a missing final newline, blanks around fields,
+ * "nan" and "inf". Rejected with a message naming the line: an empty
+ * file, a row with more or fewer fields than the header, a field that is
+ * not a number. */
+typedef struct eom_csv_table {
+    int ncols, nrows;
+    char **names; /* [ncols] column names (owned) */
+    double *v;    /* [nrows x ncols] row-major values (owned) */
+} eom_csv_table;
+EOM_API int eom_csv_table_read(eom_csv_table **out, const char *path,
+                               char *err, size_t errlen);
+EOM_API void eom_csv_table_free(eom_csv_table **t);
+/* The index of the column named name (exactly), or -1. */
+EOM_API int eom_csv_table_col(const eom_csv_table *t, const char *name);
+/* The value at row i, column j (both in range). */
+EOM_API double eom_csv_table_at(const eom_csv_table *t, int i, int j);
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* EOM_RUN_H */
