@@ -1,0 +1,161 @@
+/* test_run_api.c - the run layer's public API (eom/run.h) on its own:
+ * number text round trips and refusals, the sample grid, the CSV columns
+ * of a system, a run of the spring pendulum written by eom_run and read
+ * back with eom_csv_table_read, row for row equal to the same RK4 steps
+ * taken here with eom_integ_advance and with energies equal to the
+ * hand-written T and V, and the errors of the writer and the reader. */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "check.h"
+#include "eom/model_file.h"
+#include "eom/run.h"
+
+static const char spring[] =
+    "param m = 1 [kg]\nparam k = 75 [N/m]\nparam r0 = 1 [m]\n"
+    "param g = 9.81 [m/s^2]\ncoord r = 1.1 [m] rate 0.2\n"
+    "coord theta = 0.5 [rad]\n"
+    "T = 1/2*m*(r_dot^2 + r^2*theta_dot^2)\n"
+    "V = 1/2*k*(r - r0)^2 + m*g*(r0 - r*cos(theta))\n";
+
+static void numbers(void)
+{
+    char buf[32];
+    double v, back;
+    long l;
+    int k;
+    for (k = 0; k < 1000; k++) {
+        v = sin(k * 12.9898) * pow(10.0, (k % 41) - 20);
+        eom_numtext_format(buf, sizeof buf, v);
+        CHECK_INT(eom_numtext_parse_double(buf, &back), EOM_NUMTEXT_OK);
+        if (back != v)
+            CHECK_FAIL_("%.17g formats as %s", v, buf);
+    }
+    CHECK_INT(eom_numtext_parse_double("", &v), EOM_NUMTEXT_EMPTY);
+    CHECK_INT(eom_numtext_parse_double(" 1", &v), EOM_NUMTEXT_NOT_NUMBER);
+    CHECK_INT(eom_numtext_parse_double("1x", &v), EOM_NUMTEXT_TRAILING);
+    CHECK_INT(eom_numtext_parse_double("inf", &v), EOM_NUMTEXT_NONFINITE);
+    CHECK_INT(eom_numtext_parse_double("1e999", &v), EOM_NUMTEXT_RANGE);
+    CHECK_INT(eom_numtext_parse_long("2.5", &l), EOM_NUMTEXT_NOT_INTEGER);
+    CHECK_INT(eom_numtext_parse_long("-42", &l), EOM_NUMTEXT_OK);
+    CHECK_INT(l, -42);
+    CHECK(strlen(eom_numtext_error(EOM_NUMTEXT_TRAILING)) > 0);
+}
+
+static void grid(void)
+{
+    long long K;
+    int exact;
+    eom_run_grid(1.0, 0.1, &K, &exact);
+    CHECK(K == 10 && exact);
+    eom_run_grid(1.05, 0.1, &K, &exact);
+    CHECK(K == 10 && !exact);
+    eom_run_grid(0.0, 0.1, &K, &exact);
+    CHECK(K == 0 && exact);
+}
+
+/* The run: rows against our own RK4 steps; T and V by hand. */
+static void run_spring(const char *dir)
+{
+    char err[2048], csv[1100];
+    eom_model *m = NULL;
+    eom_system *s = NULL;
+    eom_run_columns *cols = NULL;
+    eom_csv_writer *w = NULL;
+    eom_csv_table *tab = NULL;
+    eom_integ *it = NULL;
+    eom_run_opts o;
+    double x[4], y[4];
+    int i, k, rc;
+
+    CHECK(eom_model_from_string(&m, spring, err, sizeof err) == EOM_OK);
+    CHECK(eom_system_new(&s, m, err, sizeof err) == EOM_OK);
+    eom_model_free(&m);
+    if (!s)
+        return;
+    CHECK(eom_run_columns_new(&cols, s, err, sizeof err) == 0);
+    if (cols) {
+        static const char *const want[] = {"t", "r", "theta", "r_dot",
+                                           "theta_dot", "T", "V", "E", "W"};
+        CHECK_INT(cols->count, 9);
+        for (k = 0; k < 9 && k < cols->count; k++)
+            CHECK(strcmp(cols->names[k], want[k]) == 0);
+    }
+    eom_run_columns_free(&cols);
+
+    eom_run_opts_default(&o);
+    CHECK(o.t_end == 10.0 && o.sample == 0.01 && o.opts.method == EOM_RK4);
+    o.t_end = 0.5;
+    o.sample = 0.05;
+    o.quiet = 1;
+    o.opts.dt = 1e-3;
+    snprintf(csv, sizeof csv, "%s/spring.csv", dir);
+    CHECK(eom_initial_state(s, x) == EOM_OK);
+    CHECK(eom_csv_writer_open(&w, csv, err, sizeof err) == 0);
+    CHECK_INT(eom_run(s, x, &o, w), 0);
+    CHECK(eom_csv_writer_close(&w, err, sizeof err) == 0);
+    if (eom_csv_table_read(&tab, csv, err, sizeof err) != 0) {
+        CHECK_FAIL_("%s", err);
+        eom_system_free(&s);
+        return;
+    }
+    CHECK_INT(tab->nrows, 11);
+    CHECK(eom_integ_new(&it, s, &o.opts, 0.0, x) == EOM_OK);
+    for (i = 0; i < tab->nrows; i++) {
+        const double t = 0.05 * i;
+        if (i > 0)
+            CHECK(eom_integ_advance(it, t, x, NULL) == EOM_OK);
+        for (k = 0; k < 4; k++)
+            y[k] = eom_csv_table_at(tab, i, 1 + k);
+        CHECK(eom_csv_table_at(tab, i, 0) == t);
+        for (k = 0; k < 4; k++)
+            CHECK(y[k] == x[k]); /* the same steps, read back exactly */
+        CHECK_NEAR(eom_csv_table_at(tab, i, eom_csv_table_col(tab, "T")),
+                   0.5 * (y[2] * y[2] + y[0] * y[0] * y[3] * y[3]), 1e-14);
+        CHECK_NEAR(eom_csv_table_at(tab, i, eom_csv_table_col(tab, "V")),
+                   0.5 * 75.0 * (y[0] - 1.0) * (y[0] - 1.0) +
+                       9.81 * (1.0 - y[0] * cos(y[1])),
+                   1e-14);
+    }
+    eom_integ_free(&it);
+    eom_csv_table_free(&tab);
+
+    /* errors: a folder that is not there, a malformed CSV */
+    snprintf(csv, sizeof csv, "%s/no/such/dir.csv", dir);
+    CHECK(eom_csv_writer_open(&w, csv, err, sizeof err) == -1 && !w);
+    CHECK(strstr(err, "dir.csv") != NULL);
+    snprintf(csv, sizeof csv, "%s/bad.csv", dir);
+    {
+        FILE *f = fopen(csv, "w");
+        CHECK(f != NULL);
+        if (f) {
+            fputs("a,b\n1,2\n3\n", f);
+            fclose(f);
+        }
+    }
+    rc = eom_csv_table_read(&tab, csv, err, sizeof err);
+    CHECK(rc == -1 && !tab);
+    CHECK(strstr(err, "line 3") != NULL);
+    unlink(csv);
+    snprintf(csv, sizeof csv, "%s/spring.csv", dir);
+    unlink(csv);
+    eom_system_free(&s);
+}
+
+int main(void)
+{
+    char dir[] = "/tmp/test_run_api.XXXXXX";
+    if (!mkdtemp(dir)) {
+        perror("mkdtemp");
+        return EXIT_FAILURE;
+    }
+    numbers();
+    grid();
+    run_spring(dir);
+    rmdir(dir);
+    CHECK_DONE();
+}
