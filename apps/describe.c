@@ -202,7 +202,7 @@ static void describe_outputs(FILE *f, const eom_system *s)
 }
 
 int describe_demo(FILE *f, const demo *d, const double *settings,
-                  const eom_system *s, const double *x0)
+                  const eom_system *s, const double *x0, unsigned extra)
 {
     eom_run_columns *c = NULL;
     char err[256];
@@ -218,7 +218,7 @@ int describe_demo(FILE *f, const demo *d, const double *settings,
         return -1;
     fputc('\n', f);
     describe_outputs(f, s);
-    if (eom_run_columns_new(&c, s, err, sizeof err) != 0) {
+    if (eom_run_columns_new(&c, s, extra, err, sizeof err) != 0) {
         fprintf(f, "CSV columns: (%s)\n", err);
         return 0;
     }

@@ -46,6 +46,7 @@ typedef struct cli {
     int quiet, list, describe, help;
     int plots;             /* --plots: the demo's after_run hook */
     int modes;             /* --modes: equilibrium and frequencies */
+    unsigned extra;        /* --columns: optional CSV columns */
 } cli;
 
 /* Long-only options get codes outside the range of characters. */
@@ -62,7 +63,8 @@ enum {
     OPT_NO_PROJECT,
     OPT_BAUMGARTE,
     OPT_PLOTS,
-    OPT_MODES
+    OPT_MODES,
+    OPT_COLUMNS
 };
 
 static const struct option long_options[] = {
@@ -83,6 +85,7 @@ static const struct option long_options[] = {
     {"out", required_argument, NULL, 'o'},
     {"plots", no_argument, NULL, OPT_PLOTS},
     {"modes", no_argument, NULL, OPT_MODES},
+    {"columns", required_argument, NULL, OPT_COLUMNS},
     {"quiet", no_argument, NULL, 'q'},
     {NULL, 0, NULL, 0},
 };
@@ -136,6 +139,11 @@ static void help(void)
         "      --baumgarte A,B   Baumgarte stabilization of the constraints, "
         "A, B >= 0\n"
         "                        in 1/s (default 0,0: off)\n"
+        "      --columns LIST    add optional CSV columns: accelerations "
+        "(NAME_ddot),\n"
+        "                        multipliers (lambdaK), condition (rcond_M, "
+        "rcond_S);\n"
+        "                        comma-separated, after the probes\n"
         "  -o, --out FILE        write the CSV to FILE (default: standard "
         "output, or\n"
         "                        NAME.csv in the current directory with "
@@ -257,6 +265,39 @@ static int baumgarte_arg(const char *text, double *alpha, double *beta)
     return 0;
 }
 
+/* --columns: a comma-separated list of optional column groups. */
+static int columns_arg(const char *text, unsigned *out)
+{
+    static const struct {
+        const char *name;
+        unsigned flag;
+    } groups[] = {{"accelerations", EOM_RUN_ACCELERATIONS},
+                  {"multipliers", EOM_RUN_MULTIPLIERS},
+                  {"condition", EOM_RUN_CONDITION}};
+    const char *p = text;
+    unsigned flags = 0;
+    if (!*p)
+        return usage_error("--columns: empty list (choose from "
+                           "accelerations, multipliers, condition)");
+    while (*p) {
+        size_t len = strcspn(p, ","), k;
+        for (k = 0; k < sizeof groups / sizeof groups[0]; k++)
+            if (strlen(groups[k].name) == len &&
+                strncmp(groups[k].name, p, len) == 0)
+                break;
+        if (k == sizeof groups / sizeof groups[0])
+            return usage_error("--columns '%s': unknown group '%.*s' (choose "
+                               "from accelerations, multipliers, "
+                               "condition)", text, (int)len, p);
+        flags |= groups[k].flag;
+        p += len;
+        if (*p == ',')
+            p++;
+    }
+    *out = flags;
+    return 0;
+}
+
 /* Message for getopt's '?' (unknown option, or an argument given to an
  * option that takes none). */
 static int bad_option(char **argv)
@@ -313,6 +354,7 @@ static int parse(int argc, char **argv, cli *c)
         case OPT_NO_PROJECT: c->opts.project = 0; break;
         case OPT_PLOTS: c->plots = 1; break;
         case OPT_MODES: c->modes = 1; break;
+        case OPT_COLUMNS: rc = columns_arg(optarg, &c->extra); break;
         case OPT_BAUMGARTE:
             rc = baumgarte_arg(optarg, &c->alpha, &c->beta);
             c->baumgarte = 1;
@@ -432,7 +474,7 @@ static int run(cli *c, const demo *d)
     }
 
     if (c->describe) {
-        if (describe_demo(stdout, d, settings, s, x0) != 0) {
+        if (describe_demo(stdout, d, settings, s, x0, c->extra) != 0) {
             fprintf(stderr, "eom-run: out of memory\n");
             goto done;
         }
@@ -487,6 +529,7 @@ static int run(cli *c, const demo *d)
     plan.sample = c->sample;
     plan.opts = c->opts;
     plan.quiet = c->quiet;
+    plan.extra = c->extra;
     plan.progress = isatty(STDERR_FILENO);
     status = eom_run(s, x0, &plan, w) == 0 ? EXIT_SUCCESS : EXIT_RUN;
     /* after a failure eom_run has said why: one message is enough */

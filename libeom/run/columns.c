@@ -37,11 +37,13 @@ void eom_run_columns_free(eom_run_columns **c)
     free((*c)->names);
     free((*c)->phi);
     free((*c)->phidot);
+    free((*c)->xd);
     free(*c);
     *c = NULL;
 }
 
-int eom_run_columns_new(eom_run_columns **out, const eom_system *s, char *err, size_t errlen)
+int eom_run_columns_new(eom_run_columns **out, const eom_system *s,
+                        unsigned extra, char *err, size_t errlen)
 {
     static const char *const fixed[] = {"T", "V", "E", "W"};
     eom_run_columns *c = calloc(1, sizeof *c);
@@ -52,11 +54,20 @@ int eom_run_columns_new(eom_run_columns **out, const eom_system *s, char *err, s
     c->n = eom_system_ncoords(s);
     c->m = eom_system_nconstraints(s);
     c->nprobes = eom_system_nprobes(s);
+    c->extra = extra & (EOM_RUN_ACCELERATIONS | EOM_RUN_MULTIPLIERS |
+                        EOM_RUN_CONDITION);
     c->count = 1 + 2 * c->n + 4 + 2 * c->m + c->nprobes;
+    if (c->extra & EOM_RUN_ACCELERATIONS)
+        c->count += c->n;
+    if (c->extra & EOM_RUN_MULTIPLIERS)
+        c->count += c->m;
+    if (c->extra & EOM_RUN_CONDITION)
+        c->count += 2;
     c->names = calloc((size_t)c->count, sizeof *c->names);
     c->phi = calloc((size_t)c->m + 1, sizeof(double));
     c->phidot = calloc((size_t)c->m + 1, sizeof(double));
-    if (!c->names || !c->phi || !c->phidot)
+    c->xd = calloc(2 * (size_t)c->n + 1, sizeof(double));
+    if (!c->names || !c->phi || !c->phidot || !c->xd)
         goto nomem;
     c->names[k++] = join("t", "");
     for (i = 0; i < c->n; i++)
@@ -71,6 +82,16 @@ int eom_run_columns_new(eom_run_columns **out, const eom_system *s, char *err, s
         c->names[k++] = numbered("phidot", i + 1);
     for (i = 0; i < c->nprobes; i++)
         c->names[k++] = join(eom_probe_name(s, i), "");
+    if (c->extra & EOM_RUN_ACCELERATIONS)
+        for (i = 0; i < c->n; i++)
+            c->names[k++] = join(eom_coord_name(s, i), "_ddot");
+    if (c->extra & EOM_RUN_MULTIPLIERS)
+        for (i = 0; i < c->m; i++)
+            c->names[k++] = numbered("lambda", i + 1);
+    if (c->extra & EOM_RUN_CONDITION) {
+        c->names[k++] = join("rcond_M", "");
+        c->names[k++] = join("rcond_S", "");
+    }
     for (i = 0; i < c->count; i++)
         if (!c->names[i])
             goto nomem;
@@ -100,15 +121,17 @@ static int row_fail(eom_run_columns *c, const eom_system *s, int status, int rc)
     return rc;
 }
 
-int eom_run_columns_fill(eom_run_columns *c, eom_system *s, double t, const double *x,
-                 double W, double *row, eom_run_row_info *info)
+int eom_run_columns_fill(eom_run_columns *c, eom_system *s, double t,
+                         const double *x, double W, double *row,
+                         eom_run_row_info *info)
 {
     const int n = c->n, m = c->m;
     double *after = row + 1 + 2 * n; /* T, V, E, W, residuals, probes */
+    double *opt = after + 4 + 2 * m + c->nprobes; /* the optional groups */
     int rc, status = EOM_OK, i;
     row[0] = t;
     memcpy(row + 1, x, 2 * (size_t)n * sizeof(double));
-    for (i = 0; i < 4 + 2 * m + c->nprobes; i++)
+    for (i = 0; i < c->count - 1 - 2 * n; i++)
         after[i] = NAN;
     info->e.T = info->e.V = info->e.L = info->e.E = info->e.P = NAN;
     info->phi_max = info->phidot_max = 0.0;
@@ -144,6 +167,30 @@ int eom_run_columns_fill(eom_run_columns *c, eom_system *s, double t, const doub
             status = row_fail(c, s, status, rc);
             for (i = 0; i < c->nprobes; i++)
                 after[4 + 2 * m + i] = NAN;
+        }
+    }
+    if (c->extra & EOM_RUN_ACCELERATIONS) {
+        rc = eom_rhs(s, t, x, c->xd);
+        if (rc < 0)
+            status = row_fail(c, s, status, rc);
+        else
+            memcpy(opt, c->xd + n, (size_t)n * sizeof(double));
+        opt += n;
+    }
+    if ((c->extra & EOM_RUN_MULTIPLIERS) && m > 0) {
+        rc = eom_multipliers(s, t, x, opt);
+        if (rc < 0) {
+            status = row_fail(c, s, status, rc);
+            for (i = 0; i < m; i++)
+                opt[i] = NAN;
+        }
+        opt += m;
+    }
+    if (c->extra & EOM_RUN_CONDITION) {
+        rc = eom_condition(s, x, &opt[0], &opt[1]);
+        if (rc < 0) {
+            status = row_fail(c, s, status, rc);
+            opt[0] = opt[1] = NAN;
         }
     }
     return status;

@@ -123,7 +123,7 @@ int eom_run(eom_system *s, const double *x0, const eom_run_opts *p,
     r.last_flush = wall0;
     eom_run_grid(p->t_end, p->sample, &K, &exact);
 
-    if (eom_run_columns_new(&r.cols, s, r.err, sizeof r.err) != 0) {
+    if (eom_run_columns_new(&r.cols, s, p->extra, r.err, sizeof r.err) != 0) {
         fprintf(stderr, "%s: %s: %s\n", PROG(p), LABEL(p), r.err);
         return 1;
     }

@@ -77,7 +77,7 @@ static void run_spring(const char *dir)
     eom_model_free(&m);
     if (!s)
         return;
-    CHECK(eom_run_columns_new(&cols, s, err, sizeof err) == 0);
+    CHECK(eom_run_columns_new(&cols, s, 0, err, sizeof err) == 0);
     if (cols) {
         static const char *const want[] = {"t", "r", "theta", "r_dot",
                                            "theta_dot", "T", "V", "E", "W"};

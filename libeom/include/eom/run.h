@@ -89,12 +89,27 @@ EOM_API int eom_csv_writer_close(eom_csv_writer **w, char *err,
 /* The columns of a system's CSV, in this order:
  *   t, q_1 .. q_n (coordinate names), NAME_dot for each rate,
  *   T, V, E, W, phi1 .. phiM, phidot1 .. phidotM, probes by name
- * (the phi groups are absent without constraints). */
+ * (the phi groups are absent without constraints), then the optional
+ * groups asked for, in the order of the flags below. */
+enum {
+    EOM_RUN_ACCELERATIONS = 1, /* NAME_ddot: the accelerations qdd */
+    EOM_RUN_MULTIPLIERS = 2,   /* lambda1 .. lambdaM: the constraint
+                                  forces are C^T lambda (none without
+                                  constraints) */
+    EOM_RUN_CONDITION = 4      /* rcond_M, rcond_S: reciprocal condition
+                                  estimates of M and of C M^-1 C^T at the
+                                  row's state (eom_condition; rcond_S is 1
+                                  without constraints) */
+};
+
 typedef struct eom_run_columns {
     int n, m, nprobes;    /* coordinates, constraints, probes */
-    int count;            /* columns: 1 + 2n + 4 + 2m + nprobes */
+    unsigned extra;       /* the optional groups (EOM_RUN_* flags) */
+    int count;            /* columns: 1 + 2n + 4 + 2m + nprobes, plus n,
+                             m and 2 for the optional groups */
     char **names;         /* [count] column names (owned) */
     double *phi, *phidot; /* [m] scratch */
+    double *xd;           /* [2n] scratch */
     char msg[512];        /* why the last eom_run_columns_fill failed */
 } eom_run_columns;
 
@@ -105,10 +120,11 @@ typedef struct eom_run_row_info {
     double phidot_max; /* max |(C qd)_k| */
 } eom_run_row_info;
 
-/* The columns of s (borrowed; only read). Every name must be unique: a
- * coordinate or probe named like a fixed column is an error. */
+/* The columns of s (borrowed; only read) with the optional groups extra
+ * (EOM_RUN_* flags, 0 for none). Every name must be unique: a coordinate
+ * or probe named like another column is an error. */
 EOM_API int eom_run_columns_new(eom_run_columns **out, const eom_system *s,
-                                char *err, size_t errlen);
+                                unsigned extra, char *err, size_t errlen);
 EOM_API void eom_run_columns_free(eom_run_columns **c);
 /* Fill row (c->count values) for time t, state x (2n values) and work W;
  * *info receives the energies and largest residuals. Returns EOM_OK, or
@@ -126,6 +142,7 @@ typedef struct eom_run_opts {
     double t_end;      /* >= 0 */
     double sample;     /* > 0: rows at k * sample (see eom_run_grid) */
     eom_opts opts;     /* passed to eom_integ_new as they are */
+    unsigned extra;    /* optional CSV columns (EOM_RUN_* flags) */
     int quiet;         /* no summary */
     int progress;      /* draw a progress line on standard error (for a
                           terminal: the caller decides, e.g. isatty) */
