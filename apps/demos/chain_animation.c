@@ -252,7 +252,7 @@ static void put_frames(FILE *f, const chain_shape *c, const eom_csv_table *t)
             for (k = 0; k < c->modes[j]; k++) {
                 fputc(',', f);
                 put_number(f, eom_csv_table_at(t, r,
-                                           c->q_col[c->q_first[j] + k]));
+                                               c->q_col[c->q_first[j] + k]));
             }
         fputs("],\n", f);
         if (r == t->nrows - 1)

@@ -95,7 +95,8 @@ int chain_shape_npoints(const chain_shape *c, int j)
     return c->modes[j] > 0 ? 12 * c->modes[j] + 1 : 2;
 }
 
-void chain_shape_link(const chain_shape *c, const eom_csv_table *t, int i, int j,
+void chain_shape_link(const chain_shape *c, const eom_csv_table *t, int i,
+                      int j,
                       double *root, double *pts)
 {
     const double th = eom_csv_table_at(t, i, c->theta_col[j]), L = c->L[j];
@@ -127,7 +128,8 @@ double chain_shape_exaggeration(const chain_shape *c, const eom_csv_table *t)
         for (j = 0; j < c->links; j++) {
             double sum = 0.0;
             for (k = 0; k < c->modes[j]; k++)
-                sum += fabs(eom_csv_table_at(t, i, c->q_col[c->q_first[j] + k]));
+                sum += fabs(eom_csv_table_at(t, i,
+                                             c->q_col[c->q_first[j] + k]));
             vmax = fmax(vmax, sum);
         }
     if (!(vmax > 0.0) || !isfinite(vmax))

@@ -48,7 +48,8 @@ int chain_shape_npoints(const chain_shape *c, int j);
  * evenly spaced from root to tip, the chord point (x, y) and the
  * deflection offset v n (dx, dy). pts may be NULL to advance root
  * only. */
-void chain_shape_link(const chain_shape *c, const eom_csv_table *t, int i, int j,
+void chain_shape_link(const chain_shape *c, const eom_csv_table *t, int i,
+                      int j,
                       double *root, double *pts);
 
 /* A deflection scale for drawing: 1 when the largest deflection over all

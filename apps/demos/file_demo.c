@@ -126,7 +126,7 @@ int file_demo_open(const char *path, const char *name, demo **out,
     return 0;
 }
 
-/* ---- shipped models ----------------------------------------------------- */
+/* ---- shipped models ---------------------------------------------------- */
 
 static int is_dir(const char *p)
 {

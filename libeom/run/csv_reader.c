@@ -170,7 +170,7 @@ static int row(const eom_csv_table *t, char *line, int lineno, double *out,
 }
 
 int eom_csv_table_read(eom_csv_table **out, const char *path, char *err,
-                   size_t errlen)
+                       size_t errlen)
 {
     char *text, *p, *line;
     eom_csv_table *t;

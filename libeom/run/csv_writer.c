@@ -22,7 +22,7 @@ static int write_fail(const eom_csv_writer *w, int errnum, char *err,
 }
 
 int eom_csv_writer_open(eom_csv_writer **out, const char *path, char *err,
-                    size_t errlen)
+                        size_t errlen)
 {
     eom_csv_writer *w = calloc(1, sizeof *w);
     *out = NULL;
@@ -49,7 +49,7 @@ int eom_csv_writer_open(eom_csv_writer **out, const char *path, char *err,
 }
 
 int eom_csv_writer_header(eom_csv_writer *w, char *const *names, int count,
-                      char *err, size_t errlen)
+                          char *err, size_t errlen)
 {
     int i;
     errno = 0;
@@ -63,7 +63,7 @@ int eom_csv_writer_header(eom_csv_writer *w, char *const *names, int count,
 }
 
 int eom_csv_writer_row(eom_csv_writer *w, const double *v, int count, char *err,
-                   size_t errlen)
+                       size_t errlen)
 {
     char num[32];
     int i;

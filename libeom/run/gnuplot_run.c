@@ -52,7 +52,7 @@ static void child(int fd, const char *dir, const char *script)
 }
 
 int eom_gnuplot_run(const char *dir, const char *script, char *err,
-                size_t errlen)
+                    size_t errlen)
 {
     int fds[2], st;
     child_failure f;

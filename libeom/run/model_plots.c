@@ -122,8 +122,10 @@ static int energy(const eom_plot_place *p, const char *label,
                   size_t errlen)
 {
     const int t = eom_csv_table_col(tab, "t") + 1;
-    const int T = eom_csv_table_col(tab, "T") + 1, V = eom_csv_table_col(tab, "V") + 1;
-    const int E = eom_csv_table_col(tab, "E") + 1, W = eom_csv_table_col(tab, "W") + 1;
+    const int T = eom_csv_table_col(tab, "T") + 1;
+    const int V = eom_csv_table_col(tab, "V") + 1;
+    const int E = eom_csv_table_col(tab, "E") + 1;
+    const int W = eom_csv_table_col(tab, "W") + 1;
     char path[8192];
     FILE *f = open_script(p, "energy", path, sizeof path, err, errlen);
     if (!f)
@@ -154,7 +156,8 @@ static int residuals(const eom_plot_place *p, const char *label,
                      const eom_system *s, const eom_csv_table *tab, char *err,
                      size_t errlen)
 {
-    const int m = eom_system_nconstraints(s), t = eom_csv_table_col(tab, "t") + 1;
+    const int m = eom_system_nconstraints(s);
+    const int t = eom_csv_table_col(tab, "t") + 1;
     char path[8192], name[32];
     int k, first = 1;
     FILE *f = open_script(p, "residuals", path, sizeof path, err, errlen);
@@ -208,7 +211,7 @@ static int probes(const eom_plot_place *p, const char *label,
 }
 
 int eom_run_plots(const char *label, const eom_system *s,
-                      const char *csv_path, char *err, size_t errlen)
+                  const char *csv_path, char *err, size_t errlen)
 {
     const char *names[4];
     eom_plot_place p;

@@ -16,7 +16,8 @@ const char *eom_numtext_error(int code)
     case EOM_NUMTEXT_OK: return "is a number";
     case EOM_NUMTEXT_EMPTY: return "is empty";
     case EOM_NUMTEXT_NOT_NUMBER: return "is not a number";
-    case EOM_NUMTEXT_TRAILING: return "has trailing characters after the number";
+    case EOM_NUMTEXT_TRAILING:
+        return "has trailing characters after the number";
     case EOM_NUMTEXT_NONFINITE: return "is not finite";
     case EOM_NUMTEXT_RANGE: return "is out of range";
     case EOM_NUMTEXT_NOT_INTEGER: return "is not an integer";

@@ -5,7 +5,7 @@
 #include <string.h>
 
 int eom_plot_place_of(eom_plot_place *p, const char *csv_path, char *err,
-                  size_t errlen)
+                      size_t errlen)
 {
     const char *slash = strrchr(csv_path, '/');
     const char *base = slash ? slash + 1 : csv_path;
@@ -28,7 +28,7 @@ int eom_plot_place_of(eom_plot_place *p, const char *csv_path, char *err,
 }
 
 int eom_plot_place_path(const eom_plot_place *p, const char *suffix, char *buf,
-                    size_t len)
+                        size_t len)
 {
     int w = snprintf(buf, len, "%s/%s-%s", p->dir, p->prefix, suffix);
     return w > 0 && (size_t)w < len ? 0 : -1;

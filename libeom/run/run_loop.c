@@ -59,7 +59,7 @@ static int emit(run_state *r, double t, const double *x, double W)
     int rc = eom_run_columns_fill(r->cols, r->s, t, x, W, r->row, &info);
     /* the state is data even when derived quantities failed: keep it */
     if (eom_csv_writer_row(r->w, r->row, r->cols->count, r->err,
-                       sizeof r->err) != 0) {
+                           sizeof r->err) != 0) {
         progress_clear(&r->prog);
         fprintf(stderr, "%s: %s\n", PROG(r->p), r->err);
         return 1;
@@ -96,14 +96,15 @@ static int step_to(run_state *r, eom_integ *it, double tprev, double tout,
         eom_numtext_format(b, sizeof b, tout);
         progress_clear(&r->prog);
         fprintf(stderr, "%s: %s: integration failed between t = %s "
-                "and t = %s: %s\n", PROG(r->p), LABEL(r->p), a, b, eom_integ_errmsg(it));
+                "and t = %s: %s\n", PROG(r->p), LABEL(r->p), a, b,
+                eom_integ_errmsg(it));
         return 1;
     }
     return emit(r, tout, x, *W);
 }
 
 int eom_run(eom_system *s, const double *x0, const eom_run_opts *p,
-             eom_csv_writer *w)
+            eom_csv_writer *w)
 {
     const int n = eom_system_ncoords(s);
     const double wall0 = progress_clock();
@@ -135,7 +136,7 @@ int eom_run(eom_system *s, const double *x0, const eom_run_opts *p,
     }
     memcpy(x, x0, 2 * (size_t)n * sizeof(double));
     if (eom_csv_writer_header(w, r.cols->names, r.cols->count, r.err,
-                          sizeof r.err) != 0) {
+                              sizeof r.err) != 0) {
         fprintf(stderr, "%s: %s\n", PROG(p), r.err);
         goto done;
     }

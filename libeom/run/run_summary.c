@@ -15,7 +15,8 @@ void run_summary_init(run_summary *r)
     r->phidot_max = 0.0;
 }
 
-void run_summary_add(run_summary *r, double t, double W, const eom_run_row_info *info)
+void run_summary_add(run_summary *r, double t, double W,
+                     const eom_run_row_info *info)
 {
     /* fmax ignores a NaN operand, so a row whose energies could not be
      * computed leaves the maxima alone */

@@ -1,5 +1,5 @@
-/* test_model_files.c - the shipped model files (the .eom files in models/) against
- * equations derived by hand: the spring pendulum (to 1e-13), the cart-pole
+/* test_model_files.c - the shipped model files (models/) against equations
+ * derived by hand: the spring pendulum (to 1e-13), the cart-pole
  * with its damper and time-dependent force, and the double pendulum, at
  * states away from the initial one; then every shipped model is read,
  * built and integrated for 2 s with E + W conserved and, for the

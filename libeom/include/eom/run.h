@@ -31,7 +31,7 @@
 extern "C" {
 #endif
 
-/* ---- numbers as text ---------------------------------------------------- */
+/* ---- numbers as text --------------------------------------------------- */
 
 /* Why a string is not accepted as a number. */
 enum {
@@ -58,7 +58,7 @@ EOM_API int eom_numtext_parse_long(const char *s, long *out);
  * "nan", "inf" or "-inf" for non-finite values. buf needs 32 bytes. */
 EOM_API void eom_numtext_format(char *buf, size_t len, double v);
 
-/* ---- CSV output ----------------------------------------------------------- */
+/* ---- CSV output -------------------------------------------------------- */
 
 /* A header row of names, then rows of numbers in the shortest form that
  * reads back exactly, separated by ',' and ended by '\n'. Names are
@@ -84,7 +84,7 @@ EOM_API int eom_csv_writer_flush(eom_csv_writer *w, char *err,
 EOM_API int eom_csv_writer_close(eom_csv_writer **w, char *err,
                                  size_t errlen);
 
-/* ---- the CSV contract (docs/csv.md) ------------------------------------- */
+/* ---- the CSV contract (docs/csv.md) ------------------------------------ */
 
 /* The columns of a system's CSV, in this order:
  *   t, q_1 .. q_n (coordinate names), NAME_dot for each rate,
@@ -134,7 +134,7 @@ EOM_API int eom_run_columns_fill(eom_run_columns *c, eom_system *s,
                                  double t, const double *x, double W,
                                  double *row, eom_run_row_info *info);
 
-/* ---- a run ------------------------------------------------------------------ */
+/* ---- a run ------------------------------------------------------------- */
 
 typedef struct eom_run_opts {
     const char *prog;  /* prefix of the messages (NULL: "eom_run") */
@@ -181,7 +181,7 @@ EOM_API int eom_run_prepare_start(eom_system *s, double *x,
                                   const eom_opts *o, const char *prog,
                                   const char *label);
 
-/* ---- plots ------------------------------------------------------------------- */
+/* ---- plots ------------------------------------------------------------- */
 
 /* The standard plots of a run of s whose CSV is at csv_path, beside it
  * under the CSV's name without ".csv" (PREFIX), each as .png and .svg
@@ -213,7 +213,7 @@ EOM_API int eom_plot_place_path(const eom_plot_place *p, const char *suffix,
 EOM_API int eom_gnuplot_run(const char *dir, const char *script, char *err,
                             size_t errlen);
 
-/* ---- CSV input ---------------------------------------------------------------- */
+/* ---- CSV input --------------------------------------------------------- */
 
 /* A CSV of a header row and rows of numbers, read whole. Accepted: '\n'
  * or "\r\n" line ends, a missing final newline, blanks around fields,

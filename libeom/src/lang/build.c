@@ -42,7 +42,7 @@ static void inst_free(void *v)
     free(in);
 }
 
-/* ---- families ------------------------------------------------------------- */
+/* ---- families ---------------------------------------------------------- */
 
 /* Evaluate the ranges of a declared family. */
 static int family_ranges(lang_inst *in, int s)
@@ -232,7 +232,7 @@ nomem:
     return -1;
 }
 
-/* ---- callbacks ------------------------------------------------------------- */
+/* ---- callbacks --------------------------------------------------------- */
 
 static const char *stmt_what(int kind)
 {
@@ -442,7 +442,7 @@ static int add_callbacks(lang_inst *in, eom_model *m)
     return 0;
 }
 
-/* ---- checks before the model is handed out ---------------------------------- */
+/* ---- checks before the model is handed out ----------------------------- */
 
 /* One run of the double evaluator over every callback of one role (the
  * callbacks of a role share definitions, as they do on the tapes). */
@@ -618,7 +618,7 @@ done:
     return rc;
 }
 
-/* ---- the build ---------------------------------------------------------------- */
+/* ---- the build --------------------------------------------------------- */
 
 int lang_build(lang_prog *p, const double *setting, eom_model **out,
                char *err, size_t len);

@@ -76,7 +76,7 @@ void lang_begin(lang_inst *in, eom_ctx *ctx, int role, const char *what)
         ctx->lang_run = in->epoch;
 }
 
-/* ---- the memo of definitions ----------------------------------------------- */
+/* ---- the memo of definitions ------------------------------------------- */
 
 static unsigned memo_hash(int s, const int32_t *idx)
 {
@@ -132,7 +132,7 @@ static memo_entry *memo_slot(lang_inst *in, int s, const int32_t *idx)
     return NULL;
 }
 
-/* ---- names ------------------------------------------------------------------- */
+/* ---- names ------------------------------------------------------------- */
 
 static int indices(lang_inst *in, const node *nd, long *idx)
 {
@@ -436,7 +436,7 @@ static int name_ref(lang_inst *in, const node *nd, lval *out)
     }
 }
 
-/* ---- operators ----------------------------------------------------------------- */
+/* ---- operators --------------------------------------------------------- */
 
 static int need_const(lang_inst *in, const node *nd, lval a, lval b,
                       const char *what)

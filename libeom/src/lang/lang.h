@@ -71,7 +71,7 @@ typedef struct token {
     double num;           /* TK_NUM */
 } token;
 
-/* ---- expressions --------------------------------------------------------- */
+/* ---- expressions ------------------------------------------------------- */
 
 typedef enum node_kind {
     N_NUM,   /* num */
@@ -120,7 +120,7 @@ typedef struct fn_info {
 } fn_info;
 extern const fn_info lang_fns[F_COUNT];
 
-/* ---- dimensions ---------------------------------------------------------- */
+/* ---- dimensions -------------------------------------------------------- */
 
 /* Exponents of kg, m, s, A, K, doubled (so sqrt of m^2 is exact). any:
  * a plain number, which takes the dimension of what it meets. */
@@ -130,7 +130,7 @@ typedef struct dim {
     uint8_t any;
 } dim;
 
-/* ---- declarations --------------------------------------------------------- */
+/* ---- declarations ------------------------------------------------------ */
 
 /* One index of a family's declaration or of a definition clause: either
  * a range "var in lo..hi" or a fixed index expression "fixed". */
@@ -199,7 +199,7 @@ typedef struct energy_stmt {
     binder idx[LANG_MAX_IDX];
 } energy_stmt;
 
-/* ---- the parsed program --------------------------------------------------- */
+/* ---- the parsed program ------------------------------------------------ */
 
 typedef struct lang_prog {
     int refs;             /* shared by the file handle and built models */
@@ -278,7 +278,7 @@ char *lang_strdup(const char *s);
 /* Copy src into dst (len bytes), truncated when it does not fit. */
 void lang_copy(char *dst, size_t len, const char *src);
 
-/* ---- one build: the model for fixed settings ------------------------------ */
+/* ---- one build: the model for fixed settings --------------------------- */
 
 /* A value while recording: a constant known when the file is read (k =
  * 1, value c), or a value on the tape (v). */

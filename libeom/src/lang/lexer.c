@@ -202,7 +202,8 @@ int lang_lex(lang_prog *p, char *err, size_t len)
                 break;
             case ')':
             case ']':
-                if (depth == 0 || open_ch[depth - 1] != (c == ')' ? '(' : '[')) {
+                if (depth == 0 ||
+                    open_ch[depth - 1] != (c == ')' ? '(' : '[')) {
                     if (depth == 0)
                         lang_diag_at(p, line, t.col, err, len, NULL,
                                      "'%c' without a matching '%c'", c,

@@ -61,7 +61,7 @@ static int nomem(parser *ps)
     return -1;
 }
 
-/* ---- the node pool ------------------------------------------------------- */
+/* ---- the node pool ----------------------------------------------------- */
 
 static int depth_of(const lang_prog *p, int k);
 
@@ -108,7 +108,7 @@ static int depth_of(const lang_prog *p, int k)
     return p->nodes[k].kind == N_NUM ? 1 : (int)p->nodes[k].num;
 }
 
-/* ---- expressions --------------------------------------------------------- */
+/* ---- expressions ------------------------------------------------------- */
 
 static int expr(parser *ps);
 static int unary(parser *ps);
@@ -336,7 +336,7 @@ static int expr(parser *ps)
     return a;
 }
 
-/* ---- statements ---------------------------------------------------------- */
+/* ---- statements -------------------------------------------------------- */
 
 /* '[' binder {',' binder} ']' right after a declared name; binder is
  * "VAR in LO..HI", or (fixed_ok) an expression for one index. */

@@ -22,7 +22,7 @@ const fn_info lang_fns[F_COUNT] = {
     [F_ATAN2] = {"atan2", 2}, [F_HYPOT] = {"hypot", 2},
 };
 
-/* ---- a name table (open addressing) -------------------------------------- */
+/* ---- a name table (open addressing) ------------------------------------ */
 
 typedef struct names {
     int32_t *slot; /* symbol index + 1, 0 empty */
@@ -67,7 +67,7 @@ static void names_add(names *t, const lang_prog *p, int k)
     t->slot[h] = k + 1;
 }
 
-/* ---- the resolver -------------------------------------------------------- */
+/* ---- the resolver ------------------------------------------------------ */
 
 typedef struct scope_var {
     const char *name;

@@ -167,7 +167,7 @@ int lang_unit_parse(const char *text, dim *d, char *bad, size_t badlen)
     return 0;
 }
 
-/* ---- inference ------------------------------------------------------------ */
+/* ---- inference --------------------------------------------------------- */
 
 typedef struct checker {
     lang_prog *p;
