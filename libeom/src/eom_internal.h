@@ -15,6 +15,7 @@
 #ifndef EOM_INTERNAL_H
 #define EOM_INTERNAL_H
 
+#include <stdatomic.h>
 #include <stdbool.h>
 #include <stddef.h>
 
@@ -92,12 +93,21 @@ struct eom_ctx {
 /* ---- system ----------------------------------------------------------- */
 
 /* A tape, its workspace, and the workspace index of every system
- * parameter (-1 when the tape does not use it). */
+ * parameter (-1 when the tape does not use it). The tape may be shared
+ * with clones of the system (eom_system_clone); the workspace is the
+ * system's own. */
 typedef struct eom_tape {
     tp_tape *tape;
     tp_ws *ws;
     int *pmap;
+    int dirs; /* the workspace's largest number of directions */
 } eom_tape;
+
+/* How many systems share one set of tapes: the last one frees them.
+ * Clones may be freed by different threads, hence atomic. */
+typedef struct eom_shared {
+    atomic_int refs;
+} eom_shared;
 
 struct eom_system {
     int n, m, np, nprobe;
@@ -105,6 +115,7 @@ struct eom_system {
     eom_named *coords, *params, *probes; /* copies (fn unused) */
     double *pval;                        /* parameter values in use */
     eom_tape tL, tE, tR, tQ, tphi;
+    eom_shared *shared;                  /* the tapes' owners */
     double alpha, beta;                  /* Baumgarte */
     char msg[EOM_MSG_LEN];
 

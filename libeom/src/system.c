@@ -259,6 +259,7 @@ static int record(eom_system *s, const eom_model *m, eom_tape *et,
     c.m = m;
     c.role = role;
     c.n = n;
+    et->dirs = dirs;
     rc = tp_recorder_new(&c.r, nind, group, NULL);
     free(group);
     if (rc != TP_OK)
@@ -291,10 +292,13 @@ static int record(eom_system *s, const eom_model *m, eom_tape *et,
     return rc;
 }
 
-static void tape_free(eom_tape *et)
+/* The tape itself only when this system is its last owner. */
+static void tape_free(eom_tape *et, bool last)
 {
     tp_ws_free(&et->ws);
-    tp_tape_free(&et->tape);
+    if (last)
+        tp_tape_free(&et->tape);
+    et->tape = NULL;
     free(et->pmap);
     et->pmap = NULL;
 }
@@ -317,14 +321,19 @@ static void free_named(eom_named *v, int n)
 void eom_system_free(eom_system **sp)
 {
     eom_system *s;
+    bool last;
     if (!sp || !*sp)
         return;
     s = *sp;
-    tape_free(&s->tL);
-    tape_free(&s->tE);
-    tape_free(&s->tR);
-    tape_free(&s->tQ);
-    tape_free(&s->tphi);
+    /* a system that failed before its tapes existed owns none */
+    last = !s->shared || atomic_fetch_sub(&s->shared->refs, 1) == 1;
+    tape_free(&s->tL, last);
+    tape_free(&s->tE, last);
+    tape_free(&s->tR, last);
+    tape_free(&s->tQ, last);
+    tape_free(&s->tphi, last);
+    if (last)
+        free(s->shared);
     free_named(s->coords, s->n);
     free_named(s->params, s->np);
     free_named(s->probes, s->nprobe);
@@ -501,6 +510,12 @@ int eom_system_new(eom_system **out, const eom_model *m, char *errmsg,
     s->has_Q = m->Q.set;
     s->rcond_S = 1.0;
     s->rcond_S_min = 1.0;
+    s->shared = malloc(sizeof *s->shared);
+    if (!s->shared) {
+        free(s);
+        return EOM_ERR_NOMEM;
+    }
+    atomic_init(&s->shared->refs, 1);
     s->coords = copy_named(m->coords, s->n);
     s->params = copy_named(m->params, s->np);
     s->probes = copy_named(m->probes, s->nprobe);
@@ -538,6 +553,83 @@ int eom_system_new(eom_system **out, const eom_model *m, char *errmsg,
 fail:
     copy_msg(errmsg, errmsg_len, s->msg);
     eom_system_free(&s);
+    return rc;
+}
+
+/* A workspace of the clone c for the tape of src (NULL tape: none). */
+static int clone_tape(eom_system *c, eom_tape *dst, const eom_tape *src)
+{
+    int k;
+    if (!src->tape)
+        return EOM_OK;
+    dst->tape = src->tape;
+    dst->dirs = src->dirs;
+    if (tp_ws_new(&dst->ws, dst->tape, dst->dirs, NULL) != TP_OK)
+        return eom__fail(c, EOM_ERR_NOMEM, "out of memory");
+    dst->pmap = malloc((size_t)(c->np ? c->np : 1) * sizeof(int));
+    if (!dst->pmap)
+        return eom__fail(c, EOM_ERR_NOMEM, "out of memory");
+    for (k = 0; k < c->np; k++) {
+        dst->pmap[k] = src->pmap[k];
+        if (dst->pmap[k] >= 0)
+            tp_ws_set_param(dst->ws, dst->pmap[k], c->pval[k]);
+    }
+    return EOM_OK;
+}
+
+int eom_system_clone(eom_system **out, const eom_system *s, char *errmsg,
+                     size_t errmsg_len)
+{
+    eom_system *c;
+    int rc;
+    if (errmsg && errmsg_len)
+        errmsg[0] = '\0';
+    if (!out)
+        return EOM_ERR_NULL;
+    *out = NULL;
+    if (!s)
+        return EOM_ERR_NULL;
+    c = calloc(1, sizeof *c);
+    if (!c)
+        return EOM_ERR_NOMEM;
+    c->n = s->n;
+    c->m = s->m;
+    c->np = s->np;
+    c->nprobe = s->nprobe;
+    c->has_tv = s->has_tv;
+    c->has_R = s->has_R;
+    c->has_Q = s->has_Q;
+    c->alpha = s->alpha;
+    c->beta = s->beta;
+    c->rcond_S = 1.0;
+    c->rcond_S_min = 1.0;
+    /* from here on c owns a share of the tapes, whatever happens */
+    c->shared = s->shared;
+    atomic_fetch_add(&c->shared->refs, 1);
+    c->coords = copy_named(s->coords, c->n);
+    c->params = copy_named(s->params, c->np);
+    c->probes = copy_named(s->probes, c->nprobe);
+    if (!c->coords || !c->params || !c->probes) {
+        rc = eom__fail(c, EOM_ERR_NOMEM, "out of memory");
+        goto fail;
+    }
+    if ((rc = alloc_arrays(c)) != EOM_OK)
+        goto fail;
+    memcpy(c->pval, s->pval, (size_t)c->np * sizeof *c->pval);
+    if ((rc = clone_tape(c, &c->tL, &s->tL)) != EOM_OK ||
+        (rc = clone_tape(c, &c->tE, &s->tE)) != EOM_OK ||
+        (rc = clone_tape(c, &c->tR, &s->tR)) != EOM_OK ||
+        (rc = clone_tape(c, &c->tQ, &s->tQ)) != EOM_OK ||
+        (rc = clone_tape(c, &c->tphi, &s->tphi)) != EOM_OK)
+        goto fail;
+    if (c->m > 0 && (rc = setup_klu(c)) != EOM_OK)
+        goto fail;
+    c->msg[0] = '\0';
+    *out = c;
+    return EOM_OK;
+fail:
+    copy_msg(errmsg, errmsg_len, c->msg);
+    eom_system_free(&c);
     return rc;
 }
 

@@ -177,6 +177,17 @@ typedef struct eom_system eom_system;
 EOM_API int eom_system_new(eom_system **out, const eom_model *m,
                            char *errmsg, size_t errmsg_len);
 EOM_API void eom_system_free(eom_system **s);
+/* A second system that shares the recorded tapes of s (read-only) and has
+ * its own workspaces, factorizations and results, for another thread:
+ * s and its clones may evaluate and integrate at the same time, each in
+ * one thread. The clone starts with the parameter values and Baumgarte
+ * settings s has now; later changes to either do not reach the other.
+ * The tapes live until the last system sharing them is freed, so s and
+ * its clones may be freed in any order. Cloning reads s (call it while s
+ * is not in use by another thread); nothing is recorded again. On
+ * failure *out is NULL and errmsg (may be NULL) says why. */
+EOM_API int eom_system_clone(eom_system **out, const eom_system *s,
+                             char *errmsg, size_t errmsg_len);
 /* Message about the last error of a call on s ("" after a success). */
 EOM_API const char *eom_system_errmsg(const eom_system *s);
 
