@@ -171,6 +171,10 @@ int eom__nonconservative(eom_system *s, double t, const double *x);
 int eom__evaluate(eom_system *s, double t, const double *x);
 /* Factor s->M into s->Mf (Cholesky); EOM_ERR_SINGULAR_MASS on failure. */
 int eom__factor_mass(eom_system *s);
+/* Forget the factorizations kept from earlier evaluations (KLU's pivot
+ * order, the factor of M the projection reuses), so that what follows
+ * depends on its inputs alone, not on what s evaluated before. */
+void eom__forget(eom_system *s);
 /* Projection after an integrator's step: as eom_project, with the factor
  * of M from the last evaluation when there is one (constraints.c). */
 int eom__project_step(eom_system *s, double *x, double tol, int *iters);

@@ -178,6 +178,9 @@ int eom_integ_new(eom_integ **out, eom_system *s, const eom_opts *o,
     it = calloc(1, sizeof *it);
     if (!it)
         return EOM_ERR_NOMEM;
+    /* a run's numbers depend on its own inputs, not on what s evaluated
+     * before it (an ensemble runs many on one system, in any order) */
+    eom__forget(s);
     it->s = s;
     it->o = *o;
     /* nothing borrowed outlives this call */

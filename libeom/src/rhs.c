@@ -133,6 +133,13 @@ int eom__constraints_at(eom_system *s, const double *q)
 /* Factor S (Sx holds it) with KLU: the first time with pivoting, then by
  * refactorization with the same pivots, factoring afresh when those pivots
  * have become poor. */
+void eom__forget(eom_system *s)
+{
+    if (s->knum)
+        klu_free_numeric(&s->knum, &s->kc);
+    s->mf_valid = false;
+}
+
 static int klu_factor_S(eom_system *s, bool fresh)
 {
     if (fresh && s->knum)

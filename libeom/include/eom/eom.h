@@ -384,7 +384,9 @@ typedef struct eom_integ eom_integ;
 /* An integrator for s from (t0, x0); W, the work done on the system by
  * its non-conservative forces with the sign that makes E + W constant
  * (W >= 0 is the energy dissipated), starts at 0 and is integrated beside
- * the state. The integrator borrows s. */
+ * the state. The integrator borrows s. A run's numbers depend only on its
+ * inputs (s's parameters, the options, t0, x0), not on what s evaluated
+ * before: the same run on s or on a clone of it gives the same bits. */
 EOM_API int eom_integ_new(eom_integ **out, eom_system *s, const eom_opts *o,
                           double t0, const double *x0);
 EOM_API void eom_integ_free(eom_integ **it);
