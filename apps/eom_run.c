@@ -387,26 +387,16 @@ static int parse(int argc, char **argv, cli *c)
  * status after a message. */
 static int find_demo(const char *name, const demo **d, demo **fd)
 {
-    char path[4096], err[4096];
-    size_t len = strlen(name);
-    const char *file = NULL;
-    *d = demo_find(name);
-    if (*d)
-        return 0;
-    if (strchr(name, '/') || (len > 4 && strcmp(name + len - 4, ".eom") == 0))
-        file = name;
-    else if (file_demo_shipped(name, path, sizeof path) == 0)
-        file = path;
-    if (!file)
+    char err[4096];
+    int rc = demo_resolve(name, d, fd, err, sizeof err);
+    if (rc == 1)
         return usage_error("unknown demo '%s' (eom-run --list shows the "
                            "demos and model files; a model file's name "
                            "ends in .eom)", name);
-    if (file_demo_open(file, file == name ? NULL : name, fd, err,
-                       sizeof err) != 0) {
+    if (rc != 0) {
         fprintf(stderr, "eom-run: %s\n", err);
         return EXIT_RUN;
     }
-    *d = *fd;
     return 0;
 }
 

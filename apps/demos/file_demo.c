@@ -126,6 +126,29 @@ int file_demo_open(const char *path, const char *name, demo **out,
     return 0;
 }
 
+int demo_resolve(const char *name, const demo **d, demo **fd, char *err,
+                 size_t errlen)
+{
+    char path[4096];
+    size_t len = strlen(name);
+    const char *file = NULL;
+    *fd = NULL;
+    *d = demo_find(name);
+    if (*d)
+        return 0;
+    if (strchr(name, '/') || (len > 4 && strcmp(name + len - 4, ".eom") == 0))
+        file = name;
+    else if (file_demo_shipped(name, path, sizeof path) == 0)
+        file = path;
+    if (!file)
+        return 1;
+    if (file_demo_open(file, file == name ? NULL : name, fd, err, errlen) !=
+        0)
+        return 2;
+    *d = *fd;
+    return 0;
+}
+
 /* ---- shipped models ---------------------------------------------------- */
 
 static int is_dir(const char *p)

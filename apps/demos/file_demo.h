@@ -18,6 +18,14 @@ int file_demo_open(const char *path, const char *name, demo **out,
                    char *err, size_t errlen);
 void file_demo_free(demo **d);
 
+/* The demo or model file called name: a built-in demo, a path to a model
+ * file (it ends in .eom or has a '/'), or a shipped model by name. *fd
+ * receives a file's demo (the caller frees it with file_demo_free; NULL
+ * for a built-in demo) and *d the demo to use. Returns 0; 1 when name is
+ * none of these; 2 when the model file does not load (message in err). */
+int demo_resolve(const char *name, const demo **d, demo **fd, char *err,
+                 size_t errlen);
+
 /* The folder of the shipped model files: $EOM_MODELS if set, else the
  * installed share/autoeom/models beside the program, else the source
  * tree's models/. NULL when none exists. */

@@ -1,0 +1,55 @@
+/* ensemble_pool.h - the runs of an ensemble on K threads. Each thread
+ * works on its own clone of the system (eom_system_clone: the tapes are
+ * shared, read-only) and takes the next run as soon as it is free
+ * (dynamic scheduling: run times may differ by orders of magnitude). A
+ * run's numbers depend only on its inputs, so they are the same whatever
+ * the number of threads and the order in which runs finish. */
+#ifndef APPS_ENSEMBLE_POOL_H
+#define APPS_ENSEMBLE_POOL_H
+
+#include <pthread.h>
+
+#include "ensemble_runs.h"
+#include "eom/eom.h"
+
+typedef struct run_result {
+    int done;          /* the worker has finished it */
+    int ok;            /* 0: failed, see msg */
+    double *final;     /* [2n] the state at t_end (NULL when failed early) */
+    double E0;         /* E at the start */
+    double energy_error; /* E + W - E0 at t_end */
+    double residual;   /* max |phi| at t_end (0 without constraints) */
+    double wall;       /* seconds */
+    long steps, rhs;
+    char msg[640];     /* why it failed ("" when it did not) */
+} run_result;
+
+typedef struct ensemble_job {
+    /* read-only while the pool runs */
+    eom_system *base;          /* cloned once per thread */
+    const ensemble_runs *runs;
+    const double *x0;          /* [2n] the start every run modifies */
+    const double *p0;          /* [np] the parameter values it starts from */
+    eom_opts opts;
+    double t_end, sample;      /* sample: rows of the trajectories */
+    const char *traj_dir;      /* write DIR/run-K.csv for each run, or NULL */
+    const char *label;
+    const unsigned char *skip; /* [nruns] already in the summary */
+    /* shared, under lock */
+    run_result *res;           /* [nruns] */
+    long next;
+    pthread_mutex_t lock;
+    pthread_cond_t cond;
+} ensemble_job;
+
+/* Start threads workers on job (job->res allocated, job->next = 0, the
+ * lock and condition initialized by the caller). th receives the thread
+ * handles. Returns the number started (each has its own clone; a thread
+ * that could not start or clone is reported on standard error and the
+ * others carry on), 0 if none. */
+int ensemble_pool_start(ensemble_job *job, int threads, pthread_t *th);
+
+/* Wait until run i is done (under job->lock). */
+void ensemble_pool_wait(ensemble_job *job, long i);
+
+#endif /* APPS_ENSEMBLE_POOL_H */

@@ -1,0 +1,528 @@
+/* eom_ensemble.c - eom-ensemble: many runs of one model (a demo or a
+ * model file) on threads, one summary row per run (docs/ensembles.md).
+ * The model is built and recorded once; each thread works on a clone
+ * that shares its tapes. Runs come from a CSV (--runs) or a grid
+ * (--sweep); each row of the summary gives the run's inputs, its status,
+ * the final state, the energy balance and constraint residual at t_end,
+ * steps, right-hand sides, wall time and, for a failed run, why. Rows
+ * are written in run order; --resume skips the runs already in the
+ * summary.
+ *
+ * Exit status: 0 every run succeeded, 1 some run failed (the summary says
+ * which) or the ensemble could not start, 2 the command line is wrong. */
+#define _GNU_SOURCE /* getopt_long */
+#include <getopt.h>
+#include <math.h>
+#include <pthread.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "demos/demos.h"
+#include "demos/file_demo.h"
+#include "ensemble_pool.h"
+#include "ensemble_runs.h"
+#include "eom/eom.h"
+#include "eom/run.h"
+#include "overrides.h"
+
+enum { EXIT_RUN = 1, EXIT_USAGE = 2 };
+
+typedef struct cli {
+    const char *model;
+    override *sets;
+    int nsets;
+    char **sweeps;
+    int nsweeps;
+    const char *runs, *out, *traj;
+    double t_end, sample;
+    eom_opts opts;
+    int threads, resume, quiet, help;
+} cli;
+
+enum { OPT_RUNS = 256, OPT_SWEEP, OPT_THREADS, OPT_TRAJ, OPT_RESUME,
+       OPT_INTEGRATOR, OPT_DT, OPT_RTOL, OPT_ATOL, OPT_MAX_STEPS,
+       OPT_NO_PROJECT, OPT_SAMPLE };
+
+static const struct option long_options[] = {
+    {"help", no_argument, NULL, 'h'},
+    {"set", required_argument, NULL, 's'},
+    {"runs", required_argument, NULL, OPT_RUNS},
+    {"sweep", required_argument, NULL, OPT_SWEEP},
+    {"out", required_argument, NULL, 'o'},
+    {"threads", required_argument, NULL, OPT_THREADS},
+    {"trajectories", required_argument, NULL, OPT_TRAJ},
+    {"resume", no_argument, NULL, OPT_RESUME},
+    {"t-end", required_argument, NULL, 't'},
+    {"sample", required_argument, NULL, OPT_SAMPLE},
+    {"integrator", required_argument, NULL, OPT_INTEGRATOR},
+    {"dt", required_argument, NULL, OPT_DT},
+    {"rtol", required_argument, NULL, OPT_RTOL},
+    {"atol", required_argument, NULL, OPT_ATOL},
+    {"max-steps", required_argument, NULL, OPT_MAX_STEPS},
+    {"no-project", no_argument, NULL, OPT_NO_PROJECT},
+    {"quiet", no_argument, NULL, 'q'},
+    {NULL, 0, NULL, 0},
+};
+
+static int usage_error(const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 1, 2)))
+#endif
+    ;
+
+static int usage_error(const char *fmt, ...)
+{
+    va_list ap;
+    fputs("eom-ensemble: ", stderr);
+    va_start(ap, fmt);
+    vfprintf(stderr, fmt, ap);
+    va_end(ap);
+    fputs("\n(eom-ensemble --help shows the options)\n", stderr);
+    return EXIT_USAGE;
+}
+
+static void help(void)
+{
+    printf(
+        "usage: eom-ensemble MODEL (--runs RUNS.csv | --sweep NAME=LO:HI:N..."
+        ") --out SUMMARY.csv [OPTION]...\n\n"
+        "Run MODEL (a demo, a shipped model or a model file PATH.eom) once "
+        "per run, on\nthreads, and write one summary row per run.\n\n"
+        "  -h, --help            show this help and exit\n"
+        "      --runs FILE       the runs: a CSV whose header names what "
+        "each run sets\n"
+        "                        (parameters, coordinates, rates NAME_dot, "
+        "t_end, rtol,\n"
+        "                        atol, dt) and whose rows give the values\n"
+        "      --sweep NAME=LO:HI:N  a grid of N values from LO to HI; "
+        "repeat for a\n"
+        "                        product grid (the first varies slowest)\n"
+        "  -o, --out FILE        the summary CSV (required)\n"
+        "      --resume          keep the runs already in the summary and do "
+        "the rest\n"
+        "      --threads K       K threads (default: the cores available)\n"
+        "      --trajectories DIR  also write each run's CSV as "
+        "DIR/run-K.csv\n"
+        "  -s, --set NAME=VALUE  for every run: a structural setting, a "
+        "parameter, an\n"
+        "                        initial value or rate (as eom-run)\n"
+        "  -t, --t-end T         end time of every run, >= 0 (default 10)\n"
+        "      --sample DT       rows of the trajectories (default 0.01)\n"
+        "      --integrator M    rk4, erk, adams, bdf or ida (default rk4)\n"
+        "      --dt H, --rtol R, --atol A, --max-steps N, --no-project\n"
+        "                        as for eom-run\n"
+        "  -q, --quiet           no progress line and no summary line\n"
+        "\nExit status: 0 every run succeeded, 1 some run failed (see the "
+        "summary's\nstatus and message columns) or the ensemble could not "
+        "start, 2 the command\nline is wrong. See docs/ensembles.md.\n");
+}
+
+static int number(const char *opt, const char *text, int positive,
+                  double *out)
+{
+    double v;
+    int rc = eom_numtext_parse_double(text, &v);
+    if (rc != EOM_NUMTEXT_OK)
+        return usage_error("%s '%s': the value %s", opt, text,
+                           eom_numtext_error(rc));
+    if (positive ? !(v > 0.0) : !(v >= 0.0))
+        return usage_error("%s '%s': the value must be %s", opt, text,
+                           positive ? "> 0" : ">= 0");
+    *out = v;
+    return 0;
+}
+
+static int parse(int argc, char **argv, cli *c)
+{
+    char err[512];
+    double v;
+    long l;
+    int opt, rc = 0, m;
+    opterr = 0;
+    while (rc == 0 && (opt = getopt_long(argc, argv, ":hs:o:t:q",
+                                         long_options, NULL)) != -1) {
+        switch (opt) {
+        case 'h': c->help = 1; break;
+        case 's':
+            if (override_parse(optarg, &c->sets[c->nsets], err,
+                               sizeof err) != 0)
+                return usage_error("%s", err);
+            c->nsets++;
+            break;
+        case OPT_RUNS: c->runs = optarg; break;
+        case OPT_SWEEP: c->sweeps[c->nsweeps++] = optarg; break;
+        case 'o': c->out = optarg; break;
+        case OPT_THREADS:
+            if (eom_numtext_parse_long(optarg, &l) != EOM_NUMTEXT_OK ||
+                l < 1 || l > 1024)
+                return usage_error("--threads '%s': a whole number from 1 "
+                                   "to 1024", optarg);
+            c->threads = (int)l;
+            break;
+        case OPT_TRAJ: c->traj = optarg; break;
+        case OPT_RESUME: c->resume = 1; break;
+        case 't': rc = number("--t-end", optarg, 0, &c->t_end); break;
+        case OPT_SAMPLE: rc = number("--sample", optarg, 1, &c->sample); break;
+        case OPT_INTEGRATOR:
+            if ((m = eom_method_from_name(optarg)) < 0)
+                return usage_error("--integrator '%s': unknown integrator "
+                                   "(choose rk4, erk, adams, bdf or ida)",
+                                   optarg);
+            c->opts.method = (eom_method)m;
+            break;
+        case OPT_DT: rc = number("--dt", optarg, 1, &c->opts.dt); break;
+        case OPT_RTOL: rc = number("--rtol", optarg, 1, &c->opts.rtol); break;
+        case OPT_ATOL: rc = number("--atol", optarg, 1, &c->opts.atol); break;
+        case OPT_MAX_STEPS:
+            rc = number("--max-steps", optarg, 1, &v);
+            if (rc == 0 && (v != floor(v) || v > 1e15))
+                return usage_error("--max-steps '%s': a whole number",
+                                   optarg);
+            c->opts.max_steps = (long)v;
+            break;
+        case OPT_NO_PROJECT: c->opts.project = 0; break;
+        case 'q': c->quiet = 1; break;
+        case ':':
+            return usage_error("option '%s' needs an argument",
+                               argv[optind - 1]);
+        default:
+            return usage_error("unknown option '%s'", argv[optind - 1]);
+        }
+    }
+    if (rc != 0)
+        return rc;
+    if (optind < argc)
+        c->model = argv[optind++];
+    if (optind < argc)
+        return usage_error("unexpected argument '%s'", argv[optind]);
+    return 0;
+}
+
+/* ---- the summary ------------------------------------------------------- */
+
+static void put_num(FILE *f, double v)
+{
+    char buf[32];
+    eom_numtext_format(buf, sizeof buf, v);
+    fputs(buf, f);
+}
+
+/* The message as a quoted CSV field. */
+static void put_text(FILE *f, const char *s)
+{
+    fputc('"', f);
+    for (; *s; s++) {
+        if (*s == '"')
+            fputc('"', f);
+        fputc(*s == '\n' ? ' ' : *s, f);
+    }
+    fputc('"', f);
+}
+
+static void header(FILE *f, const ensemble_runs *runs, const eom_system *s,
+                   char *buf, size_t len)
+{
+    const int n = eom_system_ncoords(s);
+    size_t k = 0;
+    int i;
+#define ADD(...)                                                            \
+    do {                                                                    \
+        int w_ = snprintf(buf + k, k < len ? len - k : 0, __VA_ARGS__);     \
+        k += w_ > 0 ? (size_t)w_ : 0;                                       \
+    } while (0)
+    ADD("run");
+    for (i = 0; i < runs->ncols; i++)
+        ADD(",%s", runs->names[i]);
+    ADD(",status");
+    for (i = 0; i < n; i++)
+        ADD(",final_%s", eom_coord_name(s, i));
+    for (i = 0; i < n; i++)
+        ADD(",final_%s_dot", eom_coord_name(s, i));
+    ADD(",E0,energy_error,residual,steps,rhs_evals,wall_time,message\n");
+#undef ADD
+    if (f)
+        fputs(buf, f);
+}
+
+static void row(FILE *f, const ensemble_runs *runs, long i, int n,
+                const run_result *r)
+{
+    int k;
+    fprintf(f, "%ld", i);
+    for (k = 0; k < runs->ncols; k++) {
+        fputc(',', f);
+        put_num(f, runs->v[i * runs->ncols + k]);
+    }
+    fputs(r->ok ? ",ok" : ",failed", f);
+    for (k = 0; k < 2 * n; k++) {
+        fputc(',', f);
+        put_num(f, r->final ? r->final[k] : NAN);
+    }
+    fputc(',', f);
+    put_num(f, r->E0);
+    fputc(',', f);
+    put_num(f, r->energy_error);
+    fputc(',', f);
+    put_num(f, r->residual);
+    fprintf(f, ",%ld,%ld,", r->steps, r->rhs);
+    put_num(f, r->wall);
+    fputc(',', f);
+    put_text(f, r->msg);
+    fputc('\n', f);
+}
+
+/* --resume: the runs already in the summary at path (its header must be
+ * this ensemble's); a line cut short by an interruption is dropped.
+ * Returns the file opened for appending, or NULL after a message. */
+static FILE *resume(const char *path, const char *want, long nruns,
+                    unsigned char *skip, long *ndone)
+{
+    FILE *f = fopen(path, "r+");
+    char *line = NULL;
+    size_t cap = 0;
+    ssize_t len;
+    long keep = 0, i;
+    *ndone = 0;
+    if (!f)
+        return fopen(path, "w");
+    if ((len = getline(&line, &cap, f)) <= 0 || strcmp(line, want) != 0) {
+        fprintf(stderr, "eom-ensemble: --resume: '%s' is not the summary "
+                "of this ensemble (its header differs)\n", path);
+        free(line);
+        fclose(f);
+        return NULL;
+    }
+    keep = (long)len;
+    while ((len = getline(&line, &cap, f)) > 0) {
+        if (line[len - 1] != '\n')
+            break; /* cut short: rewritten below */
+        i = strtol(line, NULL, 10);
+        if (i >= 0 && i < nruns && !skip[i]) {
+            skip[i] = 1;
+            (*ndone)++;
+        }
+        keep += (long)len;
+    }
+    free(line);
+    if (fflush(f) != 0 || ftruncate(fileno(f), keep) != 0 ||
+        fseek(f, keep, SEEK_SET) != 0) {
+        fprintf(stderr, "eom-ensemble: --resume: cannot append to '%s'\n",
+                path);
+        fclose(f);
+        return NULL;
+    }
+    return f;
+}
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static int run(cli *c, const demo *d)
+{
+    eom_model *model = NULL;
+    eom_system *s = NULL;
+    ensemble_runs runs;
+    ensemble_job job;
+    pthread_t *th = NULL;
+    unsigned char *skip = NULL;
+    double *settings = NULL, *x0 = NULL, *p0 = NULL, t0;
+    char err[4096], *head = NULL;
+    long i, ndone = 0, failed = 0, written = 0;
+    int status = EXIT_RUN, n, k, started = 0, tty;
+    FILE *f = NULL;
+
+    memset(&runs, 0, sizeof runs);
+    memset(&job, 0, sizeof job);
+    if (!c->out)
+        return usage_error("--out SUMMARY.csv is required");
+    if (!!c->runs + (c->nsweeps > 0) != 1)
+        return usage_error("give the runs either with --runs FILE or with "
+                           "--sweep NAME=LO:HI:N");
+    if ((c->runs ? ensemble_runs_read(&runs, c->runs, err, sizeof err)
+                 : ensemble_runs_sweep(&runs, c->sweeps, c->nsweeps, err,
+                                       sizeof err)) != 0) {
+        ensemble_runs_free(&runs);
+        return usage_error("%s", err);
+    }
+    settings = malloc(((size_t)d->nsettings + 1) * sizeof *settings);
+    if (!settings ||
+        overrides_settings(c->sets, c->nsets, d, settings, err,
+                           sizeof err) != 0) {
+        status = usage_error("%s", settings ? err : "out of memory");
+        goto done;
+    }
+    if (d->build(d, settings, &model, err, sizeof err) != 0 ||
+        eom_system_new(&s, model, err, sizeof err) != EOM_OK) {
+        fprintf(stderr, "eom-ensemble: %s: %s\n", d->name, err);
+        goto done;
+    }
+    eom_model_free(&model);
+    n = eom_system_ncoords(s);
+    x0 = malloc(2 * (size_t)n * sizeof *x0);
+    p0 = malloc(((size_t)eom_system_nparams(s) + 1) * sizeof *p0);
+    skip = calloc((size_t)runs.nruns, 1);
+    job.res = calloc((size_t)runs.nruns, sizeof *job.res);
+    th = calloc((size_t)c->threads, sizeof *th);
+    head = malloc(65536);
+    if (!x0 || !p0 || !skip || !job.res || !th || !head) {
+        fprintf(stderr, "eom-ensemble: out of memory\n");
+        goto done;
+    }
+    eom_initial_state(s, x0);
+    if (overrides_apply(c->sets, c->nsets, d, s, x0, err, sizeof err) != 0 ||
+        ensemble_runs_resolve(&runs, s, err, sizeof err) != 0) {
+        status = usage_error("%s", err);
+        goto done;
+    }
+    for (k = 0; k < eom_system_nparams(s); k++)
+        p0[k] = eom_get_param(s, k);
+    header(NULL, &runs, s, head, 65536);
+    if (c->traj && mkdir(c->traj, 0777) != 0 && access(c->traj, W_OK) != 0) {
+        fprintf(stderr, "eom-ensemble: --trajectories: cannot write to "
+                "'%s'\n", c->traj);
+        goto done;
+    }
+    f = c->resume ? resume(c->out, head, runs.nruns, skip, &ndone)
+                  : fopen(c->out, "w");
+    if (!f) {
+        if (!c->resume)
+            fprintf(stderr, "eom-ensemble: cannot write '%s'\n", c->out);
+        goto done;
+    }
+    if (ftell(f) == 0)
+        fputs(head, f);
+
+    job.base = s;
+    job.runs = &runs;
+    job.x0 = x0;
+    job.p0 = p0;
+    job.opts = c->opts;
+    job.t_end = c->t_end;
+    job.sample = c->sample;
+    job.traj_dir = c->traj;
+    job.label = d->name;
+    job.skip = skip;
+    pthread_mutex_init(&job.lock, NULL);
+    pthread_cond_init(&job.cond, NULL);
+    t0 = now();
+    started = ensemble_pool_start(&job, c->threads, th);
+    if (started == 0) {
+        fprintf(stderr, "eom-ensemble: no thread could start\n");
+        goto destroy;
+    }
+    tty = !c->quiet && isatty(STDERR_FILENO);
+    /* rows in run order, as the runs finish */
+    for (i = 0; i < runs.nruns; i++) {
+        if (skip[i])
+            continue;
+        ensemble_pool_wait(&job, i);
+        row(f, &runs, i, n, &job.res[i]);
+        failed += !job.res[i].ok;
+        written++;
+        free(job.res[i].final);
+        job.res[i].final = NULL;
+        if (ferror(f)) {
+            fprintf(stderr, "eom-ensemble: cannot write '%s'\n", c->out);
+            break;
+        }
+        if (tty) {
+            const double el = now() - t0;
+            const long todo = runs.nruns - ndone - written;
+            fprintf(stderr, "\reom-ensemble: %ld/%ld runs, %ld failed, "
+                    "%.0f s left    ", ndone + written, runs.nruns, failed,
+                    el / (double)written * (double)todo);
+            fflush(f);
+        }
+    }
+    for (k = 0; k < started; k++)
+        pthread_join(th[k], NULL);
+    if (tty)
+        fprintf(stderr, "\r%70s\r", "");
+    if (fclose(f) != 0 || i < runs.nruns) {
+        f = NULL;
+        fprintf(stderr, "eom-ensemble: cannot write '%s'\n", c->out);
+        goto destroy;
+    }
+    f = NULL;
+    if (!c->quiet)
+        fprintf(stderr, "eom-ensemble: %s: %ld runs on %d thread%s in %.3g "
+                "s, %ld failed%s%s\n", d->name, written, started,
+                started == 1 ? "" : "s", now() - t0, failed,
+                ndone ? ", kept from before: " : "",
+                ndone ? "see the summary" : "");
+    status = failed ? EXIT_RUN : EXIT_SUCCESS;
+destroy:
+    pthread_mutex_destroy(&job.lock);
+    pthread_cond_destroy(&job.cond);
+done:
+    if (f)
+        fclose(f);
+    for (i = 0; job.res && i < runs.nruns; i++)
+        free(job.res[i].final);
+    free(job.res);
+    free(th);
+    free(skip);
+    free(head);
+    free(settings);
+    free(x0);
+    free(p0);
+    ensemble_runs_free(&runs);
+    eom_model_free(&model);
+    eom_system_free(&s);
+    return status;
+}
+
+int main(int argc, char **argv)
+{
+    cli c;
+    const demo *d = NULL;
+    demo *fd = NULL;
+    char err[4096];
+    int status;
+    long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    memset(&c, 0, sizeof c);
+    c.t_end = 10.0;
+    c.sample = 0.01;
+    c.threads = cores > 0 ? (int)(cores > 1024 ? 1024 : cores) : 1;
+    eom_opts_default(&c.opts);
+    c.opts.method = EOM_RK4;
+    c.opts.dt = 1e-3;
+    c.opts.rtol = 1e-8;
+    c.opts.atol = 1e-10;
+    c.opts.max_steps = 10000000L;
+    c.opts.project = 1;
+    c.sets = malloc((size_t)argc * sizeof *c.sets);
+    c.sweeps = malloc((size_t)argc * sizeof *c.sweeps);
+    if (!c.sets || !c.sweeps) {
+        fprintf(stderr, "eom-ensemble: out of memory\n");
+        return EXIT_RUN;
+    }
+    status = parse(argc, argv, &c);
+    if (status == 0 && c.help) {
+        help();
+    } else if (status == 0 && !c.model) {
+        status = usage_error("no model given (eom-run --list shows the "
+                             "demos and model files)");
+    } else if (status == 0) {
+        int rc = demo_resolve(c.model, &d, &fd, err, sizeof err);
+        if (rc == 1)
+            status = usage_error("unknown demo or model '%s'", c.model);
+        else if (rc != 0)
+            status = (fprintf(stderr, "eom-ensemble: %s\n", err), EXIT_RUN);
+        else
+            status = run(&c, d);
+        file_demo_free(&fd);
+    }
+    free(c.sets);
+    free(c.sweeps);
+    return status;
+}

@@ -1,0 +1,279 @@
+/* test_cli_ensemble.c - eom-ensemble from the outside: the same summary,
+ * bit for bit but for the wall times, on 1 and on 3 threads; a failing
+ * run in the middle recorded with its message while the others go on;
+ * --resume after an interrupted ensemble gives the uninterrupted summary;
+ * the trajectories; and the command-line errors.
+ *
+ * usage: test_cli_ensemble EOM_ENSEMBLE MODELS_DIR CASE */
+#define _XOPEN_SOURCE 700
+#include <limits.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "check.h"
+#include "cli_support.h"
+
+static char models[PATH_MAX];
+
+/* The summary without its wall_time column (the next to last). */
+static char *strip_wall(const char *text)
+{
+    char *out = malloc(strlen(text) + 1), *o = out;
+    const char *line = text;
+    while (out && *line) {
+        const char *end = strchr(line, '\n'), *p, *wall = NULL, *msg = NULL;
+        size_t len = end ? (size_t)(end - line) : strlen(line);
+        int commas = 0, total = 0;
+        for (p = line; p < line + len && *p != '"'; p++)
+            total += *p == ',';
+        for (p = line; p < line + len; p++)
+            if (*p == ',' && ++commas == total - 1)
+                wall = p;
+            else if (*p == ',' && commas == total)
+                msg = p;
+        if (wall && msg) {
+            memcpy(o, line, (size_t)(wall - line));
+            o += wall - line;
+            memcpy(o, msg, (size_t)(line + len - msg));
+            o += line + len - msg;
+        }
+        *o++ = '\n';
+        line += len + (end ? 1 : 0);
+    }
+    if (out)
+        *o = '\0';
+    return out;
+}
+
+static char *summary(const char *path)
+{
+    char *text = read_file(path, NULL), *s;
+    if (!text)
+        return NULL;
+    s = strip_wall(text);
+    free(text);
+    return s;
+}
+
+static void case_threads(void)
+{
+    char model[PATH_MAX + 32], out1[300], out3[300], threads[8];
+    const char *args[] = {model, "--sweep", "EI=2e4:8e4:3", "--sweep",
+                          "c=0:20:3", "--t-end", "0.3", "--integrator",
+                          "erk", "--threads", threads, "--out", NULL, "-q",
+                          NULL};
+    char *a, *b;
+    result r;
+    snprintf(model, sizeof model, "%s/closed-chain.eom", models);
+    scratch(out1, sizeof out1, "one.csv");
+    scratch(out3, sizeof out3, "three.csv");
+    strcpy(threads, "1");
+    args[12] = out1;
+    run(&r, args);
+    CHECK_INT(r.status, 0);
+    result_free(&r);
+    strcpy(threads, "3");
+    args[12] = out3;
+    run(&r, args);
+    CHECK_INT(r.status, 0);
+    result_free(&r);
+    a = summary(out1);
+    b = summary(out3);
+    CHECK(a && b);
+    if (a && b) {
+        CHECK(strcmp(a, b) == 0);
+        CHECK_HAS(a, "run,EI,c,status,final_theta1,");
+        CHECK_HAS(a, "\n8,80000,20,ok,");
+        CHECK(strstr(a, "failed") == NULL);
+    }
+    free(a);
+    free(b);
+}
+
+/* The spring pendulum with r = 0 in the middle: a singular mass matrix. */
+static void write_runs(const char *path, const char *const *rows)
+{
+    FILE *f = fopen(path, "w");
+    CHECK(f != NULL);
+    if (!f)
+        return;
+    for (; *rows; rows++)
+        fputs(*rows, f);
+    fclose(f);
+}
+
+static void case_failure(void)
+{
+    static const char *const rows[] = {"r,k,theta_dot\n", "1.1,75,0\n",
+                                       "1.2,50,0.1\n", "0,75,0\n",
+                                       "1.3,60,-0.2\n", NULL};
+    char runs[300], out[300], *text;
+    const char *args[] = {"spring-pendulum", "--runs", runs, "--t-end", "0.5",
+                          "--out", out, "-q", NULL};
+    result r;
+    scratch(runs, sizeof runs, "runs.csv");
+    scratch(out, sizeof out, "sum.csv");
+    write_runs(runs, rows);
+    run(&r, args);
+    CHECK_INT(r.status, 1); /* one run failed */
+    result_free(&r);
+    text = read_file(out, NULL);
+    CHECK(text != NULL);
+    if (text) {
+        CHECK_HAS(text, "\n0,1.1,75,0,ok,");
+        CHECK_HAS(text, "\n2,0,75,0,failed,");
+        CHECK_HAS(text, "mass matrix");
+        CHECK_HAS(text, "\n3,1.3,60,-0.2,ok,");
+    }
+    free(text);
+}
+
+/* Interrupted after two runs and part of a third line, then resumed. */
+static void case_resume(void)
+{
+    char model[PATH_MAX + 32], full[300], part[300], *a, *b, *text;
+    const char *args[] = {model, "--sweep", "m=0.5:2:6", "--t-end", "0.2",
+                          "--out", NULL, NULL, NULL};
+    FILE *f;
+    result r;
+    snprintf(model, sizeof model, "%s/double-pendulum.eom", models);
+    args[2] = "m1=0.5:2:6";
+    scratch(full, sizeof full, "full.csv");
+    scratch(part, sizeof part, "part.csv");
+    args[6] = full;
+    run(&r, args);
+    CHECK_INT(r.status, 0);
+    result_free(&r);
+    text = read_file(full, NULL);
+    CHECK(text != NULL);
+    if (!text)
+        return;
+    {
+        /* header, runs 0 and 1, and half of run 2's line */
+        char *p = text;
+        int k;
+        for (k = 0; k < 3 && p; k++)
+            p = strchr(p + 1, '\n');
+        f = fopen(part, "w");
+        CHECK(f && p);
+        if (f && p) {
+            fwrite(text, 1, (size_t)(p + 1 - text), f);
+            fwrite(p + 1, 1, 10, f);
+        }
+        if (f)
+            fclose(f);
+    }
+    free(text);
+    args[6] = part;
+    args[7] = "--resume";
+    run(&r, args);
+    CHECK_INT(r.status, 0);
+    CHECK_HAS(r.err, ": 4 runs on");
+    result_free(&r);
+    a = summary(full);
+    b = summary(part);
+    CHECK(a && b && strcmp(a, b) == 0);
+    free(a);
+    free(b);
+    /* another ensemble's summary is not resumed */
+    args[2] = "m2=0.5:2:6";
+    run(&r, args);
+    CHECK_INT(r.status, 1);
+    CHECK_HAS(r.err, "header differs");
+    result_free(&r);
+}
+
+static void case_trajectories(void)
+{
+    char out[300], dir[300], file[400], *text;
+    const char *args[] = {"spring-pendulum", "--sweep", "k=50:100:2",
+                          "--t-end", "0.1", "--sample", "0.05",
+                          "--trajectories", dir, "--out", out, "-q", NULL};
+    result r;
+    scratch(out, sizeof out, "sum.csv");
+    scratch(dir, sizeof dir, "traj");
+    run(&r, args);
+    CHECK_INT(r.status, 0);
+    result_free(&r);
+    snprintf(file, sizeof file, "%s/run-1.csv", dir);
+    text = read_file(file, NULL);
+    CHECK(text != NULL);
+    if (text) {
+        CHECK(strncmp(text, "t,r,theta,r_dot,theta_dot,T,V,E,W\n", 34) == 0);
+        CHECK_HAS(text, "\n0.1,");
+    }
+    free(text);
+    unlink(file);
+    snprintf(file, sizeof file, "%s/run-0.csv", dir);
+    unlink(file);
+    rmdir(dir);
+}
+
+static void case_usage(void)
+{
+    const char *no_out[] = {"spring-pendulum", "--sweep", "k=1:2:2", NULL};
+    const char *both[] = {"spring-pendulum", "--sweep", "k=1:2:2", "--runs",
+                          "x.csv", "--out", "o.csv", NULL};
+    const char *unknown[] = {"spring-pendulum", "--sweep", "kk=1:2:2",
+                             "--out", "/nonexistent/o.csv", NULL};
+    const char *bad[] = {"spring-pendulum", "--sweep", "k=1:2", "--out",
+                         "o.csv", NULL};
+    result r;
+    run(&r, no_out);
+    CHECK_INT(r.status, 2);
+    CHECK_HAS(r.err, "--out SUMMARY.csv is required");
+    result_free(&r);
+    run(&r, both);
+    CHECK_INT(r.status, 2);
+    CHECK_HAS(r.err, "either with --runs FILE or with --sweep");
+    result_free(&r);
+    run(&r, unknown);
+    CHECK_INT(r.status, 2);
+    CHECK_HAS(r.err, "the runs vary 'kk'");
+    result_free(&r);
+    run(&r, bad);
+    CHECK_INT(r.status, 2);
+    CHECK_HAS(r.err, "expected NAME=LO:HI:N");
+    result_free(&r);
+}
+
+static const struct {
+    const char *name;
+    void (*fn)(void);
+} cases[] = {
+    {"ensemble_threads", case_threads}, {"ensemble_failure", case_failure},
+    {"ensemble_resume", case_resume},
+    {"ensemble_trajectories", case_trajectories},
+    {"ensemble_usage", case_usage},
+};
+
+int main(int argc, char **argv)
+{
+    static char program[PATH_MAX];
+    size_t i;
+    int found = 0;
+    if (argc < 4 || !realpath(argv[1], program) ||
+        !realpath(argv[2], models)) {
+        fprintf(stderr, "usage: test_cli_ensemble EOM_ENSEMBLE MODELS_DIR "
+                "CASE\n");
+        return EXIT_FAILURE;
+    }
+    cli_program = program;
+    if (cli_setup() != 0)
+        return EXIT_FAILURE;
+    for (i = 0; i < sizeof cases / sizeof cases[0]; i++)
+        if (strcmp(cases[i].name, argv[3]) == 0) {
+            cases[i].fn();
+            found = 1;
+        }
+    cli_cleanup();
+    if (!found) {
+        fprintf(stderr, "test_cli_ensemble: unknown case '%s'\n", argv[3]);
+        return EXIT_FAILURE;
+    }
+    CHECK_DONE();
+}
