@@ -1,6 +1,7 @@
 /* ensemble_runs.c - the runs table of an ensemble (ensemble_runs.h). */
 #include "ensemble_runs.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -142,6 +143,121 @@ done:
     free(lo);
     free(hi);
     free(np);
+    return rc;
+}
+
+/* ---- random runs -------------------------------------------------------- */
+
+typedef struct rng {
+    unsigned long long s[4];
+} rng;
+
+static unsigned long long splitmix(unsigned long long *x)
+{
+    unsigned long long z = (*x += 0x9e3779b97f4a7c15ULL);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+}
+
+static unsigned long long rotl(unsigned long long x, int k)
+{
+    return (x << k) | (x >> (64 - k));
+}
+
+static unsigned long long next(rng *g)
+{
+    unsigned long long *s = g->s, r = rotl(s[1] * 5, 7) * 9, t = s[1] << 17;
+    s[2] ^= s[0];
+    s[3] ^= s[1];
+    s[1] ^= s[2];
+    s[0] ^= s[3];
+    s[2] ^= t;
+    s[3] = rotl(s[3], 45);
+    return r;
+}
+
+/* Uniform in (0, 1), never 0 (the normal draw takes its log). */
+static double unit(rng *g)
+{
+    return ((double)(next(g) >> 11) + 0.5) * (1.0 / 9007199254740992.0);
+}
+
+int ensemble_runs_random(ensemble_runs *r, char *const *specs, int ndist,
+                         long count, unsigned long long seed, char *err,
+                         size_t errlen)
+{
+    static const double two_pi = 6.28318530717958647692;
+    double *a = calloc((size_t)ndist + 1, sizeof *a);
+    double *b = calloc((size_t)ndist + 1, sizeof *b);
+    int *normal = calloc((size_t)ndist + 1, sizeof *normal), k, rc = -1;
+    rng g;
+    long i;
+    memset(r, 0, sizeof *r);
+    if (!a || !b || !normal) {
+        snprintf(err, errlen, "out of memory");
+        goto done;
+    }
+    if (count < 1 || count > MAX_RUNS) {
+        snprintf(err, errlen, "--count must be from 1 to %ld", MAX_RUNS);
+        goto done;
+    }
+    for (k = 0; k < ndist; k++) {
+        const char *eq = strchr(specs[k], '='), *c1, *c2;
+        char x[64], y[64];
+        int ok = eq && eq > specs[k];
+        if (ok && strncmp(eq + 1, "uniform:", 8) == 0)
+            c1 = eq + 8;
+        else if (ok && strncmp(eq + 1, "normal:", 7) == 0)
+            c1 = eq + 7, normal[k] = 1;
+        else
+            ok = 0;
+        if (!ok || !(c2 = strchr(c1 + 1, ':')) || c2 - c1 - 1 >= 64 ||
+            strlen(c2 + 1) >= 64) {
+            snprintf(err, errlen, "--random '%s': expected "
+                     "NAME=uniform:LO:HI or NAME=normal:MEAN:SD", specs[k]);
+            goto done;
+        }
+        snprintf(x, sizeof x, "%.*s", (int)(c2 - c1 - 1), c1 + 1);
+        snprintf(y, sizeof y, "%s", c2 + 1);
+        if (eom_numtext_parse_double(x, &a[k]) != EOM_NUMTEXT_OK ||
+            eom_numtext_parse_double(y, &b[k]) != EOM_NUMTEXT_OK ||
+            (normal[k] ? !(b[k] >= 0.0) : !(b[k] >= a[k]))) {
+            snprintf(err, errlen, "--random '%s': %s", specs[k],
+                     normal[k] ? "MEAN and SD must be numbers, SD >= 0"
+                               : "LO and HI must be numbers, LO <= HI");
+            goto done;
+        }
+    }
+    if (alloc_cols(r, ndist, count) != 0) {
+        snprintf(err, errlen, "out of memory");
+        goto done;
+    }
+    for (k = 0; k < ndist; k++) {
+        const char *eq = strchr(specs[k], '=');
+        if (!(r->names[k] = copy(specs[k], (size_t)(eq - specs[k])))) {
+            snprintf(err, errlen, "out of memory");
+            goto done;
+        }
+    }
+    for (k = 0; k < 4; k++)
+        g.s[k] = splitmix(&seed);
+    /* run by run, name by name: the draws do not depend on the threads */
+    for (i = 0; i < count; i++)
+        for (k = 0; k < ndist; k++) {
+            double u = unit(&g), v;
+            if (normal[k])
+                v = a[k] + b[k] * sqrt(-2.0 * log(u)) *
+                               cos(two_pi * unit(&g));
+            else
+                v = a[k] + (b[k] - a[k]) * u;
+            r->v[i * ndist + k] = v;
+        }
+    rc = 0;
+done:
+    free(a);
+    free(b);
+    free(normal);
     return rc;
 }
 

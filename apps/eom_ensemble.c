@@ -38,6 +38,10 @@ typedef struct cli {
     int nsets;
     char **sweeps;
     int nsweeps;
+    char **dists;      /* --random */
+    int ndists;
+    long count;        /* --count */
+    unsigned long long seed;
     const char *runs, *out, *traj;
     double t_end, sample;
     eom_opts opts;
@@ -46,13 +50,16 @@ typedef struct cli {
 
 enum { OPT_RUNS = 256, OPT_SWEEP, OPT_THREADS, OPT_TRAJ, OPT_RESUME,
        OPT_INTEGRATOR, OPT_DT, OPT_RTOL, OPT_ATOL, OPT_MAX_STEPS,
-       OPT_NO_PROJECT, OPT_SAMPLE };
+       OPT_NO_PROJECT, OPT_SAMPLE, OPT_RANDOM, OPT_COUNT, OPT_SEED };
 
 static const struct option long_options[] = {
     {"help", no_argument, NULL, 'h'},
     {"set", required_argument, NULL, 's'},
     {"runs", required_argument, NULL, OPT_RUNS},
     {"sweep", required_argument, NULL, OPT_SWEEP},
+    {"random", required_argument, NULL, OPT_RANDOM},
+    {"count", required_argument, NULL, OPT_COUNT},
+    {"seed", required_argument, NULL, OPT_SEED},
     {"out", required_argument, NULL, 'o'},
     {"threads", required_argument, NULL, OPT_THREADS},
     {"trajectories", required_argument, NULL, OPT_TRAJ},
@@ -90,7 +97,10 @@ static void help(void)
 {
     printf(
         "usage: eom-ensemble MODEL (--runs RUNS.csv | --sweep NAME=LO:HI:N..."
-        ") --out SUMMARY.csv [OPTION]...\n\n"
+        " |\n"
+        "                    --random NAME=DIST... [--count N] [--seed S])"
+        " --out SUMMARY.csv\n"
+        "                    [OPTION]...\n\n"
         "Run MODEL (a demo, a shipped model or a model file PATH.eom) once "
         "per run, on\nthreads, and write one summary row per run.\n\n"
         "  -h, --help            show this help and exit\n"
@@ -102,6 +112,13 @@ static void help(void)
         "      --sweep NAME=LO:HI:N  a grid of N values from LO to HI; "
         "repeat for a\n"
         "                        product grid (the first varies slowest)\n"
+        "      --random NAME=uniform:LO:HI, --random NAME=normal:MEAN:SD\n"
+        "                        --count runs drawn at random (repeat for "
+        "more names)\n"
+        "      --count N         the number of random runs (default 100)\n"
+        "      --seed S          the generator's seed (default 1): the same "
+        "seed, the\n"
+        "                        same runs\n"
         "  -o, --out FILE        the summary CSV (required)\n"
         "      --resume          keep the runs already in the summary and do "
         "the rest\n"
@@ -156,6 +173,21 @@ static int parse(int argc, char **argv, cli *c)
             break;
         case OPT_RUNS: c->runs = optarg; break;
         case OPT_SWEEP: c->sweeps[c->nsweeps++] = optarg; break;
+        case OPT_RANDOM: c->dists[c->ndists++] = optarg; break;
+        case OPT_COUNT:
+            if (eom_numtext_parse_long(optarg, &l) != EOM_NUMTEXT_OK ||
+                l < 1)
+                return usage_error("--count '%s': a whole number >= 1",
+                                   optarg);
+            c->count = l;
+            break;
+        case OPT_SEED:
+            if (eom_numtext_parse_long(optarg, &l) != EOM_NUMTEXT_OK ||
+                l < 0)
+                return usage_error("--seed '%s': a whole number >= 0",
+                                   optarg);
+            c->seed = (unsigned long long)l;
+            break;
         case 'o': c->out = optarg; break;
         case OPT_THREADS:
             if (eom_numtext_parse_long(optarg, &l) != EOM_NUMTEXT_OK ||
@@ -344,12 +376,15 @@ static int run(cli *c, const demo *d)
     memset(&job, 0, sizeof job);
     if (!c->out)
         return usage_error("--out SUMMARY.csv is required");
-    if (!!c->runs + (c->nsweeps > 0) != 1)
-        return usage_error("give the runs either with --runs FILE or with "
-                           "--sweep NAME=LO:HI:N");
+    if (!!c->runs + (c->nsweeps > 0) + (c->ndists > 0) != 1)
+        return usage_error("give the runs with one of --runs FILE, --sweep "
+                           "NAME=LO:HI:N or --random NAME=...");
     if ((c->runs ? ensemble_runs_read(&runs, c->runs, err, sizeof err)
-                 : ensemble_runs_sweep(&runs, c->sweeps, c->nsweeps, err,
-                                       sizeof err)) != 0) {
+         : c->nsweeps
+             ? ensemble_runs_sweep(&runs, c->sweeps, c->nsweeps, err,
+                                   sizeof err)
+             : ensemble_runs_random(&runs, c->dists, c->ndists, c->count,
+                                    c->seed, err, sizeof err)) != 0) {
         ensemble_runs_free(&runs);
         return usage_error("%s", err);
     }
@@ -502,7 +537,10 @@ int main(int argc, char **argv)
     c.opts.project = 1;
     c.sets = malloc((size_t)argc * sizeof *c.sets);
     c.sweeps = malloc((size_t)argc * sizeof *c.sweeps);
-    if (!c.sets || !c.sweeps) {
+    c.dists = malloc((size_t)argc * sizeof *c.dists);
+    c.count = 100;
+    c.seed = 1;
+    if (!c.sets || !c.sweeps || !c.dists) {
         fprintf(stderr, "eom-ensemble: out of memory\n");
         return EXIT_RUN;
     }
@@ -524,5 +562,6 @@ int main(int argc, char **argv)
     }
     free(c.sets);
     free(c.sweeps);
+    free(c.dists);
     return status;
 }

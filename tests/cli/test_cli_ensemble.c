@@ -213,6 +213,84 @@ static void case_trajectories(void)
     rmdir(dir);
 }
 
+/* --random: inside its bounds, the right mean and spread, the same runs
+ * for the same seed and other runs for another. */
+static void case_random(void)
+{
+    char out1[300], out2[300], *t1, *t2;
+    const char *args[] = {"spring-pendulum", "--random", "k=uniform:50:100",
+                          "--random", "theta=normal:0.5:0.1", "--count",
+                          "2000", "--seed", "42", "--t-end", "0", "--out",
+                          out1, "-q", NULL};
+    double su = 0, sn = 0, sn2 = 0;
+    result r;
+    scratch(out1, sizeof out1, "r1.csv");
+    scratch(out2, sizeof out2, "r2.csv");
+    run(&r, args);
+    CHECK_INT(r.status, 0);
+    result_free(&r);
+    args[12] = out2;
+    run(&r, args);
+    CHECK_INT(r.status, 0);
+    result_free(&r);
+    t1 = read_file(out1, NULL);
+    t2 = read_file(out2, NULL);
+    CHECK(t1 && t2);
+    if (!t1 || !t2) {
+        free(t1);
+        free(t2);
+        return;
+    }
+    /* the same seed: the same inputs (columns k and theta) */
+    {
+        char *a = strip_wall(t1), *b = strip_wall(t2);
+        CHECK(a && b && strcmp(a, b) == 0);
+        free(a);
+        free(b);
+    }
+    /* the inputs are the columns after run: "I,K,THETA,status,..." */
+    {
+        const char *line = strchr(t1, '\n');
+        int rows = 0;
+        CHECK(strncmp(t1, "run,k,theta,status,", 19) == 0);
+        while (line && line[1]) {
+            long run_i;
+            double k, th;
+            if (sscanf(line + 1, "%ld,%lf,%lf,", &run_i, &k, &th) != 3) {
+                CHECK_FAIL_("bad row after %d rows", rows);
+                break;
+            }
+            CHECK(run_i == rows && k >= 50 && k <= 100);
+            su += k;
+            sn += th;
+            sn2 += th * th;
+            rows++;
+            line = strchr(line + 1, '\n');
+        }
+        CHECK_INT(rows, 2000);
+        if (rows > 0) {
+            su /= rows;
+            sn /= rows;
+            /* within 3 standard errors */
+            CHECK(fabs(su - 75.0) < 3 * 50 / sqrt(12.0) / sqrt(2000.0));
+            CHECK(fabs(sn - 0.5) < 3 * 0.1 / sqrt(2000.0));
+            CHECK(fabs(sqrt(sn2 / rows - sn * sn) - 0.1) < 0.01);
+        }
+    }
+    free(t1);
+    free(t2);
+    /* another seed: other runs */
+    args[8] = "43";
+    run(&r, args);
+    CHECK_INT(r.status, 0);
+    result_free(&r);
+    t1 = read_file(out2, NULL);
+    t2 = read_file(out1, NULL);
+    CHECK(t1 && t2 && strncmp(t1 + 200, t2 + 200, 100) != 0);
+    free(t1);
+    free(t2);
+}
+
 static void case_usage(void)
 {
     const char *no_out[] = {"spring-pendulum", "--sweep", "k=1:2:2", NULL};
@@ -229,7 +307,7 @@ static void case_usage(void)
     result_free(&r);
     run(&r, both);
     CHECK_INT(r.status, 2);
-    CHECK_HAS(r.err, "either with --runs FILE or with --sweep");
+    CHECK_HAS(r.err, "one of --runs FILE, --sweep");
     result_free(&r);
     run(&r, unknown);
     CHECK_INT(r.status, 2);
@@ -248,7 +326,7 @@ static const struct {
     {"ensemble_threads", case_threads}, {"ensemble_failure", case_failure},
     {"ensemble_resume", case_resume},
     {"ensemble_trajectories", case_trajectories},
-    {"ensemble_usage", case_usage},
+    {"ensemble_usage", case_usage}, {"ensemble_random", case_random},
 };
 
 int main(int argc, char **argv)
