@@ -18,7 +18,7 @@ static double now(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-typedef struct worker {
+typedef struct ensemble_worker {
     ensemble_job *job;
     eom_system *s; /* this thread's clone */
     double *x, *phi, *row;
@@ -66,7 +66,7 @@ static int trajectory(worker *w, long i, eom_integ *it, double *W,
 }
 
 /* Run i on this worker's system. */
-static void one_run(worker *w, long i, run_result *r)
+void ensemble_worker_run(worker *w, long i, run_result *r)
 {
     ensemble_job *job = w->job;
     const ensemble_runs *runs = job->runs;
@@ -162,64 +162,83 @@ out:
     r->wall = now() - t0;
 }
 
-static void *work(void *p)
+long ensemble_job_next(ensemble_job *job)
 {
-    worker *w = p;
-    ensemble_job *job = w->job;
-    for (;;) {
-        long i;
-        pthread_mutex_lock(&job->lock);
-        while (job->next < job->runs->nruns && job->skip &&
-               job->skip[job->next])
-            job->next++;
-        i = job->next < job->runs->nruns ? job->next++ : -1;
-        pthread_mutex_unlock(&job->lock);
-        if (i < 0)
-            break;
-        one_run(w, i, &job->res[i]);
-        pthread_mutex_lock(&job->lock);
-        job->res[i].done = 1;
-        pthread_cond_broadcast(&job->cond);
-        pthread_mutex_unlock(&job->lock);
-    }
+    long i;
+    pthread_mutex_lock(&job->lock);
+    while (job->next < job->runs->nruns && job->skip &&
+           job->skip[job->next])
+        job->next++;
+    i = job->next < job->runs->nruns ? job->next++ : -1;
+    pthread_mutex_unlock(&job->lock);
+    return i;
+}
+
+void ensemble_worker_free(worker **wp)
+{
+    worker *w = wp ? *wp : NULL;
+    if (!w)
+        return;
     eom_run_columns_free(&w->cols);
     eom_system_free(&w->s);
     free(w->x);
     free(w->phi);
     free(w->row);
     free(w);
+    *wp = NULL;
+}
+
+worker *ensemble_worker_new(ensemble_job *job)
+{
+    const int n = eom_system_ncoords(job->base);
+    const int m = eom_system_nconstraints(job->base);
+    worker *w = calloc(1, sizeof *w);
+    char err[512] = "out of memory";
+    if (!w) {
+        fprintf(stderr, "eom-ensemble: out of memory\n");
+        return NULL;
+    }
+    w->job = job;
+    w->x = malloc((2 * (size_t)n + 1) * sizeof *w->x);
+    w->phi = malloc((2 * (size_t)m + 1) * sizeof *w->phi);
+    if (!w->x || !w->phi ||
+        eom_system_clone(&w->s, job->base, err, sizeof err) != EOM_OK ||
+        (job->traj_dir &&
+         (eom_run_columns_new(&w->cols, w->s, 0, err, sizeof err) != 0 ||
+          !(w->row = malloc((size_t)w->cols->count * sizeof *w->row))))) {
+        fprintf(stderr, "eom-ensemble: a worker cannot start: %s\n", err);
+        ensemble_worker_free(&w);
+        return NULL;
+    }
+    return w;
+}
+
+static void *work(void *p)
+{
+    worker *w = p;
+    ensemble_job *job = w->job;
+    long i;
+    while ((i = ensemble_job_next(job)) >= 0) {
+        ensemble_worker_run(w, i, &job->res[i]);
+        pthread_mutex_lock(&job->lock);
+        job->res[i].done = 1;
+        pthread_cond_broadcast(&job->cond);
+        pthread_mutex_unlock(&job->lock);
+    }
+    ensemble_worker_free(&w);
     return NULL;
 }
 
 int ensemble_pool_start(ensemble_job *job, int threads, pthread_t *th)
 {
-    const int n = eom_system_ncoords(job->base);
-    const int m = eom_system_nconstraints(job->base);
     int k, started = 0;
     for (k = 0; k < threads; k++) {
-        worker *w = calloc(1, sizeof *w);
-        char err[512] = "";
-        if (!w) {
-            fprintf(stderr, "eom-ensemble: out of memory for thread %d\n", k);
+        worker *w = ensemble_worker_new(job);
+        if (!w)
             continue;
-        }
-        w->job = job;
-        w->x = malloc((2 * (size_t)n + 1) * sizeof *w->x);
-        w->phi = malloc((2 * (size_t)m + 1) * sizeof *w->phi);
-        if (!w->x || !w->phi ||
-            eom_system_clone(&w->s, job->base, err, sizeof err) != EOM_OK ||
-            (job->traj_dir &&
-             (eom_run_columns_new(&w->cols, w->s, 0, err, sizeof err) != 0 ||
-              !(w->row = malloc((size_t)w->cols->count * sizeof *w->row)))) ||
-            pthread_create(&th[started], NULL, work, w) != 0) {
-            fprintf(stderr, "eom-ensemble: thread %d cannot start%s%s\n", k,
-                    w->s ? "" : ": ", w->s ? "" : err);
-            eom_run_columns_free(&w->cols);
-            eom_system_free(&w->s);
-            free(w->x);
-            free(w->phi);
-            free(w->row);
-            free(w);
+        if (pthread_create(&th[started], NULL, work, w) != 0) {
+            fprintf(stderr, "eom-ensemble: thread %d cannot start\n", k);
+            ensemble_worker_free(&w);
             continue;
         }
         started++;

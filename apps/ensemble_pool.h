@@ -42,6 +42,18 @@ typedef struct ensemble_job {
     pthread_cond_t cond;
 } ensemble_job;
 
+/* One worker: a clone of job->base with its buffers, for one thread or
+ * one MPI rank. */
+typedef struct ensemble_worker ensemble_worker;
+/* NULL after a message on standard error. */
+ensemble_worker *ensemble_worker_new(ensemble_job *job);
+void ensemble_worker_free(ensemble_worker **w);
+/* Run i of job->runs on w into *r (r->done is left to the caller). */
+void ensemble_worker_run(ensemble_worker *w, long i, run_result *r);
+/* The next run not yet handed out and not skipped, or -1 (under
+ * job->lock). */
+long ensemble_job_next(ensemble_job *job);
+
 /* Start threads workers on job (job->res allocated, job->next = 0, the
  * lock and condition initialized by the caller). th receives the thread
  * handles. Returns the number started (each has its own clone; a thread

@@ -26,11 +26,19 @@
 #include "demos/file_demo.h"
 #include "ensemble_pool.h"
 #include "ensemble_runs.h"
+#ifdef EOM_ENSEMBLE_MPI
+#include "ensemble_mpi.h"
+#endif
 #include "eom/eom.h"
 #include "eom/run.h"
 #include "overrides.h"
 
 enum { EXIT_RUN = 1, EXIT_USAGE = 2 };
+
+/* This process's MPI rank and the number of ranks (0 and 1 without MPI):
+ * only rank 0 speaks on the command line's behalf and writes the
+ * summary. */
+static int g_rank, g_size = 1;
 
 typedef struct cli {
     const char *model;
@@ -85,6 +93,8 @@ static int usage_error(const char *fmt, ...)
 static int usage_error(const char *fmt, ...)
 {
     va_list ap;
+    if (g_rank > 0)
+        return EXIT_USAGE; /* rank 0 says it, once */
     fputs("eom-ensemble: ", stderr);
     va_start(ap, fmt);
     vfprintf(stderr, fmt, ap);
@@ -358,6 +368,43 @@ static double now(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* Wait until run i is done: with other ranks, serving them meanwhile. */
+static void wait_for(ensemble_job *job, long i, int *active)
+{
+#ifdef EOM_ENSEMBLE_MPI
+    if (g_size > 1) {
+        const struct timespec nap = {0, 500000}; /* 0.5 ms */
+        for (;;) {
+            int done;
+            pthread_mutex_lock(&job->lock);
+            done = job->res[i].done;
+            pthread_mutex_unlock(&job->lock);
+            if (done)
+                return;
+            if (!ensemble_mpi_serve(job, active))
+                nanosleep(&nap, NULL);
+        }
+    }
+#else
+    (void)active;
+#endif
+    ensemble_pool_wait(job, i);
+}
+
+/* Tell every other rank that there is nothing left. */
+static void finish_ranks(ensemble_job *job, int *active)
+{
+#ifdef EOM_ENSEMBLE_MPI
+    const struct timespec nap = {0, 500000};
+    while (*active > 0)
+        if (!ensemble_mpi_serve(job, active))
+            nanosleep(&nap, NULL);
+#else
+    (void)job;
+    (void)active;
+#endif
+}
+
 static int run(cli *c, const demo *d)
 {
     eom_model *model = NULL;
@@ -369,7 +416,10 @@ static int run(cli *c, const demo *d)
     double *settings = NULL, *x0 = NULL, *p0 = NULL, t0;
     char err[4096], *head = NULL;
     long i, ndone = 0, failed = 0, written = 0;
-    int status = EXIT_RUN, n, k, started = 0, tty;
+    int status = EXIT_RUN, n, k, started = 0, tty, active = g_size - 1;
+#ifdef EOM_ENSEMBLE_MPI
+    int setup_ok = 0;
+#endif
     FILE *f = NULL;
 
     memset(&runs, 0, sizeof runs);
@@ -426,15 +476,18 @@ static int run(cli *c, const demo *d)
                 "'%s'\n", c->traj);
         goto done;
     }
-    f = c->resume ? resume(c->out, head, runs.nruns, skip, &ndone)
-                  : fopen(c->out, "w");
-    if (!f) {
-        if (!c->resume)
-            fprintf(stderr, "eom-ensemble: cannot write '%s'\n", c->out);
-        goto done;
+    if (g_rank == 0) {
+        f = c->resume ? resume(c->out, head, runs.nruns, skip, &ndone)
+                      : fopen(c->out, "w");
+        if (!f) {
+            if (!c->resume)
+                fprintf(stderr, "eom-ensemble: cannot write '%s'\n",
+                        c->out);
+            goto done;
+        }
+        if (ftell(f) == 0)
+            fputs(head, f);
     }
-    if (ftell(f) == 0)
-        fputs(head, f);
 
     job.base = s;
     job.runs = &runs;
@@ -448,9 +501,22 @@ static int run(cli *c, const demo *d)
     job.skip = skip;
     pthread_mutex_init(&job.lock, NULL);
     pthread_cond_init(&job.cond, NULL);
+#ifdef EOM_ENSEMBLE_MPI
+    /* every rank is ready, or none starts (a rank left waiting would
+     * wait for ever) */
+    setup_ok = 1;
+    if (g_size > 1 && !ensemble_mpi_all_ok(1)) {
+        status = EXIT_RUN;
+        goto destroy;
+    }
+    if (g_rank > 0) {
+        status = ensemble_mpi_work(&job) == 0 ? EXIT_SUCCESS : EXIT_RUN;
+        goto destroy;
+    }
+#endif
     t0 = now();
     started = ensemble_pool_start(&job, c->threads, th);
-    if (started == 0) {
+    if (started == 0 && g_size == 1) {
         fprintf(stderr, "eom-ensemble: no thread could start\n");
         goto destroy;
     }
@@ -459,7 +525,7 @@ static int run(cli *c, const demo *d)
     for (i = 0; i < runs.nruns; i++) {
         if (skip[i])
             continue;
-        ensemble_pool_wait(&job, i);
+        wait_for(&job, i, &active);
         row(f, &runs, i, n, &job.res[i]);
         failed += !job.res[i].ok;
         written++;
@@ -480,6 +546,7 @@ static int run(cli *c, const demo *d)
     }
     for (k = 0; k < started; k++)
         pthread_join(th[k], NULL);
+    finish_ranks(&job, &active);
     if (tty)
         fprintf(stderr, "\r%70s\r", "");
     if (fclose(f) != 0 || i < runs.nruns) {
@@ -488,7 +555,12 @@ static int run(cli *c, const demo *d)
         goto destroy;
     }
     f = NULL;
-    if (!c->quiet)
+    if (!c->quiet && g_size > 1)
+        fprintf(stderr, "eom-ensemble: %s: %ld runs on %d rank%s (%d "
+                "thread%s on rank 0) in %.3g s, %ld failed\n", d->name,
+                written, g_size, g_size == 1 ? "" : "s", started,
+                started == 1 ? "" : "s", now() - t0, failed);
+    else if (!c->quiet)
         fprintf(stderr, "eom-ensemble: %s: %ld runs on %d thread%s in %.3g "
                 "s, %ld failed%s%s\n", d->name, written, started,
                 started == 1 ? "" : "s", now() - t0, failed,
@@ -499,6 +571,11 @@ destroy:
     pthread_mutex_destroy(&job.lock);
     pthread_cond_destroy(&job.cond);
 done:
+#ifdef EOM_ENSEMBLE_MPI
+    /* a failure before every rank said it was ready: tell the others */
+    if (g_size > 1 && !setup_ok)
+        ensemble_mpi_all_ok(0);
+#endif
     if (f)
         fclose(f);
     for (i = 0; job.res && i < runs.nruns; i++)
@@ -524,6 +601,13 @@ int main(int argc, char **argv)
     char err[4096];
     int status;
     long cores = sysconf(_SC_NPROCESSORS_ONLN);
+#ifdef EOM_ENSEMBLE_MPI
+    if (ensemble_mpi_init(&argc, &argv, &g_rank, &g_size) != 0) {
+        fprintf(stderr, "eom-ensemble: MPI does not start (it needs "
+                "MPI_THREAD_FUNNELED)\n");
+        return EXIT_RUN;
+    }
+#endif
     memset(&c, 0, sizeof c);
     c.t_end = 10.0;
     c.sample = 0.01;
@@ -563,5 +647,8 @@ int main(int argc, char **argv)
     free(c.sets);
     free(c.sweeps);
     free(c.dists);
+#ifdef EOM_ENSEMBLE_MPI
+    ensemble_mpi_finalize();
+#endif
     return status;
 }

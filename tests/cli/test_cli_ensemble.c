@@ -5,7 +5,7 @@
  * the trajectories; and the command-line errors.
  *
  * usage: test_cli_ensemble EOM_ENSEMBLE MODELS_DIR CASE */
-#define _XOPEN_SOURCE 700
+#define _XOPEN_SOURCE 700 /* realpath, setenv */
 #include <limits.h>
 #include <math.h>
 #include <stdio.h>
@@ -291,6 +291,67 @@ static void case_random(void)
     free(t2);
 }
 
+/* Built with MPI: 2 and 3 ranks give the summary of one process, and a
+ * failing run handed to another rank is recorded there. */
+static void case_mpi(void)
+{
+    static const char *const rows[] = {"r,k\n", "1.1,75\n", "1.2,50\n",
+                                       "0,75\n", "1.3,60\n", "1.0,90\n",
+                                       NULL};
+    char model[PATH_MAX + 32], one[300], two[300], three[300], runs[300];
+    char sum[300];
+    const char *args[] = {model, "--random", "EI=uniform:2e4:8e4",
+                          "--count", "12", "--t-end", "0.3", "--integrator",
+                          "erk", "--threads", "1", "--out", NULL, "-q",
+                          NULL};
+    const char *fail_args[] = {"spring-pendulum", "--runs", runs, "--t-end",
+                               "0.2", "--threads", "1", "--out", sum, "-q",
+                               NULL};
+    char *a, *b, *c3, *text;
+    result r;
+    snprintf(model, sizeof model, "%s/closed-chain.eom", models);
+    scratch(one, sizeof one, "one.csv");
+    scratch(two, sizeof two, "two.csv");
+    scratch(three, sizeof three, "three.csv");
+    scratch(runs, sizeof runs, "runs.csv");
+    scratch(sum, sizeof sum, "sum.csv");
+    args[12] = one;
+    run(&r, args);
+    CHECK_INT(r.status, 0);
+    result_free(&r);
+    setenv("EOM_CLI_WRAPPER", "mpirun -np 2 --oversubscribe", 1);
+    args[12] = two;
+    run(&r, args);
+    CHECK_INT(r.status, 0);
+    result_free(&r);
+    setenv("EOM_CLI_WRAPPER", "mpirun -np 3 --oversubscribe", 1);
+    args[12] = three;
+    run(&r, args);
+    CHECK_INT(r.status, 0);
+    result_free(&r);
+    a = summary(one);
+    b = summary(two);
+    c3 = summary(three);
+    CHECK(a && b && c3 && strcmp(a, b) == 0 && strcmp(a, c3) == 0);
+    free(a);
+    free(b);
+    free(c3);
+    /* a failing run among ranks */
+    write_runs(runs, rows);
+    run(&r, fail_args);
+    CHECK_INT(r.status, 1);
+    result_free(&r);
+    unsetenv("EOM_CLI_WRAPPER");
+    text = read_file(sum, NULL);
+    CHECK(text != NULL);
+    if (text) {
+        CHECK_HAS(text, "\n2,0,75,failed,");
+        CHECK_HAS(text, "mass matrix");
+        CHECK_HAS(text, "\n4,1,90,ok,");
+    }
+    free(text);
+}
+
 static void case_usage(void)
 {
     const char *no_out[] = {"spring-pendulum", "--sweep", "k=1:2:2", NULL};
@@ -327,6 +388,7 @@ static const struct {
     {"ensemble_resume", case_resume},
     {"ensemble_trajectories", case_trajectories},
     {"ensemble_usage", case_usage}, {"ensemble_random", case_random},
+    {"ensemble_mpi", case_mpi},
 };
 
 int main(int argc, char **argv)
