@@ -11,7 +11,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <signal.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "check.h"
@@ -185,6 +188,63 @@ static void case_resume(void)
     CHECK_INT(r.status, 1);
     CHECK_HAS(r.err, "header differs");
     result_free(&r);
+}
+
+/* Killed for real (SIGKILL) after a few rows, then resumed: the summary
+ * is that of a run never interrupted. */
+static void case_kill(void)
+{
+    char model[PATH_MAX + 32], full[300], cut[300], *a, *b;
+    const char *args[] = {model, "--sweep", "th1=0.5:2.5:40", "--t-end",
+                          "10", "--integrator", "erk", "--rtol", "1e-11",
+                          "--atol", "1e-13", "--threads", "1", "--out", NULL,
+                          "-q", NULL, NULL};
+    const char *argv_c[20];
+    pid_t pid;
+    int k, lines = 0, st;
+    result r;
+    snprintf(model, sizeof model, "%s/double-pendulum.eom", models);
+    scratch(full, sizeof full, "full.csv");
+    scratch(cut, sizeof cut, "cut.csv");
+    args[14] = full;
+    run(&r, args);
+    CHECK_INT(r.status, 0);
+    result_free(&r);
+    /* the same ensemble, killed once a few rows are out */
+    args[14] = cut;
+    argv_c[0] = cli_program;
+    for (k = 0; args[k]; k++)
+        argv_c[k + 1] = args[k];
+    argv_c[k + 1] = NULL;
+    fflush(NULL);
+    pid = fork();
+    if (pid == 0) {
+        freopen("/dev/null", "w", stderr);
+        execv(cli_program, (char *const *)(void *)argv_c);
+        _exit(127);
+    }
+    CHECK(pid > 0);
+    for (k = 0; k < 3000 && lines < 4; k++) { /* at most 30 s */
+        char *text = read_file(cut, NULL), *p;
+        struct timespec nap = {0, 10000000};
+        lines = 0;
+        for (p = text; p && *p; p++)
+            lines += *p == '\n';
+        free(text);
+        nanosleep(&nap, NULL);
+    }
+    kill(pid, SIGKILL);
+    waitpid(pid, &st, 0);
+    CHECK(WIFSIGNALED(st)); /* it was still running */
+    args[16] = "--resume";
+    run(&r, args);
+    CHECK_INT(r.status, 0);
+    result_free(&r);
+    a = summary(full);
+    b = summary(cut);
+    CHECK(a && b && strcmp(a, b) == 0);
+    free(a);
+    free(b);
 }
 
 static void case_trajectories(void)
@@ -388,7 +448,7 @@ static const struct {
     {"ensemble_resume", case_resume},
     {"ensemble_trajectories", case_trajectories},
     {"ensemble_usage", case_usage}, {"ensemble_random", case_random},
-    {"ensemble_mpi", case_mpi},
+    {"ensemble_mpi", case_mpi}, {"ensemble_kill", case_kill},
 };
 
 int main(int argc, char **argv)
