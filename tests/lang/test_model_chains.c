@@ -46,6 +46,7 @@ static eom_model *c_chain(int closed, int N, int K)
     sp.g = closed ? 9.81 : 0.0;
     sp.c = closed ? 10.0 : 0.0;
     sp.D = 10.0;
+    sp.structural = 1; /* as the files: zeta, 0 by default */
     sp.theta0 = th;
     sp.theta0_dot = thd;
     sp.q0 = q0;
@@ -165,6 +166,20 @@ static void compare_chain(int closed, int N, int K, int integrate)
         scale = fmax(1.0, max_abs(dc + n, (size_t)n));
         for (k = n; k < 2 * n; k++)
             CHECK_NEAR(df[k] / scale, dc[k] / scale, 1e-12);
+    }
+    /* structural damping: the same forces from the file's R and the
+     * element's */
+    if (K > 0) {
+        double scale;
+        CHECK(eom_set_param(sc, eom_param_index(sc, "zeta"), 0.03) == EOM_OK);
+        CHECK(eom_set_param(sf, eom_param_index(sf, "zeta"), 0.03) == EOM_OK);
+        CHECK(eom_rhs(sc, 0.0, x, dc) == EOM_OK);
+        CHECK(eom_rhs(sf, 0.0, x, df) == EOM_OK);
+        scale = fmax(1.0, max_abs(dc + n, (size_t)n));
+        for (k = n; k < 2 * n; k++)
+            CHECK_NEAR(df[k] / scale, dc[k] / scale, 1e-12);
+        CHECK(eom_set_param(sc, eom_param_index(sc, "zeta"), 0.0) == EOM_OK);
+        CHECK(eom_set_param(sf, eom_param_index(sf, "zeta"), 0.0) == EOM_OK);
     }
     if (integrate) {
         /* RK4 for 2 s from the same start; the tapes differ in the order

@@ -15,8 +15,10 @@
  *   coordinates  theta1 .. thetaN (rad), qJ_I (m: mode I of link J)
  *   parameters   mJ (kg), LJ (m), EIJ (N m^2) for every link J; g (m/s^2);
  *                c (N m s/rad) when some joint has a damper; k (N m/rad)
- *                when some joint has a spring; D (m) for a closed chain
- *   energies     T (kinetic), V (strain + gravity + springs), R (dampers)
+ *                when some joint has a spring; D (m) for a closed chain;
+ *                zeta, ray_a (1/s) and ray_b (s) with structural damping
+ *   energies     T (kinetic), V (strain + gravity + springs), R (dampers,
+ *                structural damping)
  *   constraints  sum L_j cos theta_j - D = 0, sum L_j sin theta_j = 0
  *                (closed chains)
  *   probes       TJ_rigid (the link's kinetic energy as a rigid rod of its
@@ -25,6 +27,15 @@
  * Joints are numbered 0 (ground to link 1), j (link j to link j+1) and N
  * (link N to the ground pin of a closed chain); a damper at joint j adds
  * 1/2 c (relative rate)^2 to R, a spring 1/2 k (relative angle)^2 to V.
+ *
+ * Structural damping acts on the flexible coordinates only, never on the
+ * angles: mode i of link j, with modal mass m_j / 2 and modal stiffness
+ * k_ji = EI_j (i pi)^4 / (2 L_j^3), gets the damping coefficient
+ *     c_ji = 2 zeta sqrt(k_ji m_j / 2) + ray_a m_j / 2 + ray_b k_ji,
+ * a modal damping ratio zeta (the same for every mode) plus Rayleigh
+ * damping a M + b K of the link's own modal block, and adds
+ * 1/2 c_ji (dq_ji/dt)^2 to R, so E + W still balances. All three default
+ * to 0, the paper's undamped beams (docs/elements.md).
  */
 #ifndef EOM_CHAIN_H
 #define EOM_CHAIN_H
@@ -48,6 +59,9 @@ typedef struct eom_chain_spec {
     double g, c, k, D;
     const unsigned char *damped; /* [N + 1] joints with a damper, or NULL */
     const unsigned char *sprung; /* [N + 1] joints with a spring, or NULL */
+    int structural;       /* add the parameters zeta, ray_a, ray_b (with
+                             the defaults below) and their terms of R */
+    double zeta, ray_a, ray_b;
     /* initial state (NULL: zero) */
     const double *theta0, *theta0_dot; /* [N] */
     const double *q0, *q0_dot; /* modal amplitudes, link by link, in the

@@ -39,6 +39,7 @@ typedef struct chain_probe {
 typedef struct chain {
     int N;
     int closed;
+    int structural; /* structural damping of the modes */
     int *K;      /* [N] modes per link */
     int *th;     /* [N] coordinate index of theta_j */
     int *q;      /* [N] coordinate index of mode 1 of link j */
@@ -215,16 +216,51 @@ static int chain_V(eom_ctx *c, void *user, tp_val *out)
     return 0;
 }
 
+/* 1/2 sum_i c_ji qd_ji^2 of link j's modes (chain.h): modal and
+ * Rayleigh damping of the flexible coordinates. */
+static tp_val link_structural(eom_ctx *c, const chain *ch, int j)
+{
+    tp_rec *R = eom_rec(c);
+    tp_val m = par(c, ch, "m", j), L = par(c, ch, "L", j);
+    tp_val kmodal = tp_div(R, tp_mulc(R, par(c, ch, "EI", j), 0.5),
+                           tp_powi(R, L, 3)); /* k_ji / (i pi)^4 */
+    tp_val mmodal = tp_mulc(R, m, 0.5);
+    tp_val zeta = par(c, ch, "zeta", -1), a = par(c, ch, "ray_a", -1);
+    tp_val b = par(c, ch, "ray_b", -1);
+    tp_val sum = tp_const(R, 0.0);
+    int i;
+    for (i = 1; i <= ch->K[j]; i++) {
+        const double ip4 = (i * pi) * (i * pi) * (i * pi) * (i * pi);
+        tp_val k = tp_mulc(R, kmodal, ip4);
+        tp_val cji = tp_add(R,
+                            tp_mulc(R, tp_mul(R, zeta,
+                                              tp_sqrt(R, tp_mul(R, k,
+                                                                mmodal))),
+                                    2.0),
+                            tp_add(R, tp_mul(R, a, mmodal), tp_mul(R, b, k)));
+        tp_val qd = eom_qd(c, ch->q[j] + i - 1);
+        sum = tp_add(R, sum, tp_mul(R, cji, tp_sqr(R, qd)));
+    }
+    return tp_mulc(R, sum, 0.5);
+}
+
 static int chain_R(eom_ctx *c, void *user, tp_val *out)
 {
     const chain *ch = user;
     tp_rec *R = eom_rec(c);
-    tp_val sum = tp_const(R, 0.0);
-    int j;
+    tp_val sum = tp_const(R, 0.0), total;
+    int j, any = 0;
     for (j = 0; j <= ch->N; j++)
-        if (ch->damped[j])
+        if (ch->damped[j]) {
             sum = tp_add(R, sum, tp_sqr(R, joint_rel(c, ch, j, 1)));
-    *out = tp_mul(R, tp_mulc(R, par(c, ch, "c", -1), 0.5), sum);
+            any = 1;
+        }
+    total = any ? tp_mul(R, tp_mulc(R, par(c, ch, "c", -1), 0.5), sum)
+                : tp_const(R, 0.0);
+    for (j = 0; ch->structural && j < ch->N; j++)
+        if (ch->K[j] > 0)
+            total = tp_add(R, total, link_structural(c, ch, j));
+    *out = total;
     return 0;
 }
 
@@ -304,6 +340,7 @@ int eom_chain_add(eom_model *m, const eom_chain_spec *sp)
         return EOM_ERR_NOMEM;
     ch->N = N;
     ch->closed = sp->closed != 0;
+    ch->structural = sp->structural != 0;
     snprintf(ch->prefix, sizeof ch->prefix, "%s",
              sp->prefix ? sp->prefix : "");
     ch->K = calloc((size_t)N, sizeof(int));
@@ -383,12 +420,23 @@ int eom_chain_add(eom_model *m, const eom_chain_spec *sp)
     if (ch->closed && (rc = add_param(m, ch, "D", -1, "m", sp->D,
                                       "x of the tip pin")) < 0)
         return fail(m, rc);
+    if (ch->structural &&
+        ((rc = add_param(m, ch, "zeta", -1, NULL, sp->zeta,
+                         "modal damping ratio of every mode")) < 0 ||
+         (rc = add_param(m, ch, "ray_a", -1, "1/s", sp->ray_a,
+                         "Rayleigh damping of the modes: a of a M + b K")) <
+             0 ||
+         (rc = add_param(m, ch, "ray_b", -1, "s", sp->ray_b,
+                         "Rayleigh damping of the modes: b of a M + b K")) <
+             0))
+        return fail(m, rc);
 
     /* energies, constraints, probes */
     if ((rc = eom_model_add_kinetic(m, chain_T, ch)) < 0 ||
         (rc = eom_model_add_potential(m, chain_V, ch)) < 0)
         return fail(m, rc);
-    if (any_damped && (rc = eom_model_add_dissipation(m, chain_R, ch)) < 0)
+    if ((any_damped || ch->structural) &&
+        (rc = eom_model_add_dissipation(m, chain_R, ch)) < 0)
         return fail(m, rc);
     if (ch->closed &&
         (rc = eom_model_add_constraints(m, 2, chain_phi, ch)) < 0)
