@@ -16,6 +16,46 @@ void dpotrs_(const char *uplo, const int *n, const int *nrhs,
              const double *a, const int *lda, double *b, const int *ldb,
              int *info, size_t uplo_len);
 
+/* The same split as libeom's (libeom/src/rhs.c): up to this size the
+ * Cholesky is plain loops, above it LAPACK's, so that "times the
+ * hand-coded right-hand side" means times the physical limit of a
+ * Lagrangian route, not times LAPACK's call overhead. */
+#define SMALL_CHOLESKY 16
+
+/* L L^T = A (column-major lower triangle, n x n), then solve for b. */
+static int small_cholesky_solve(int n, double *A, double *b)
+{
+    int i, j, k;
+    for (j = 0; j < n; j++) {
+        double d = A[j + j * n];
+        for (k = 0; k < j; k++)
+            d -= A[j + k * n] * A[j + k * n];
+        if (!(d > 0.0))
+            return j + 1;
+        d = sqrt(d);
+        A[j + j * n] = d;
+        for (i = j + 1; i < n; i++) {
+            double t = A[i + j * n];
+            for (k = 0; k < j; k++)
+                t -= A[i + k * n] * A[j + k * n];
+            A[i + j * n] = t / d;
+        }
+    }
+    for (i = 0; i < n; i++) { /* L y = b */
+        double t = b[i];
+        for (k = 0; k < i; k++)
+            t -= A[i + k * n] * b[k];
+        b[i] = t / A[i + i * n];
+    }
+    for (i = n - 1; i >= 0; i--) { /* L^T x = y */
+        double t = b[i];
+        for (k = i + 1; k < n; k++)
+            t -= A[k + i * n] * b[k];
+        b[i] = t / A[i + i * n];
+    }
+    return 0;
+}
+
 /* The modes of a link enter through these sums (docs/elements.md). */
 double chain_plain_L(const chain_plain *c, const double *x)
 {
@@ -134,6 +174,8 @@ int chain_plain_hand_rhs(chain_hand *h, const double *x, double *qdd)
         }
         qdd[i] = f;
     }
+    if (N <= SMALL_CHOLESKY)
+        return small_cholesky_solve(N, h->M, qdd) == 0 ? 0 : -1;
     dpotrf_("L", &N, h->M, &N, &info, 1);
     if (info != 0)
         return -1;

@@ -4,7 +4,8 @@
  *     element's recording (the unit "plain L" of the benchmarks);
  *   - chain_hand_*: for rigid links, the equations of motion in closed
  *     form, sum_j a_ij [cos(th_i - th_j) thdd_j + sin(th_i - th_j) thd_j^2]
- *     + g c_i cos th_i = 0, solved by LAPACK's Cholesky: the hand-coded
+ *     + g c_i cos th_i = 0, solved by Cholesky (plain loops up to 16
+ *     coordinates, LAPACK's above, as libeom does): the hand-coded
  *     limit of a Lagrangian route. */
 #ifndef BENCH_CHAIN_PLAIN_H
 #define BENCH_CHAIN_PLAIN_H
