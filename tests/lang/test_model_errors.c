@@ -190,9 +190,14 @@ static void check_limits(void)
     CHECK(strstr(err, "deeper than 200") != NULL);
     CHECK(strstr(err, "<string>:3:") == err);
     /* settings: unknown name and out of range */
-    CHECK(eom_file_parse(&f, "setting n = 2 in 1..4\n" HEAD
-                         "T = 1/2*m*x_dot^2\n",
+    CHECK(eom_file_parse(&f, "setting n = 2 in 1..4 \"a count, with a "
+                         "description longer than sixty-four characters "
+                         "to keep whole\"\n" HEAD "T = 1/2*m*x_dot^2\n",
                          "s.eom", err, sizeof err) == EOM_OK);
+    CHECK(strcmp(eom_file_setting_description(f, 0),
+                 "a count, with a description longer than sixty-four "
+                 "characters to keep whole") == 0);
+    CHECK(eom_file_setting_description(f, 1) == NULL);
     CHECK(eom_file_set_setting(f, "links", 3, err, sizeof err) ==
           EOM_ERR_NAME);
     CHECK(strstr(err, "links is not a setting of s.eom") != NULL);

@@ -18,6 +18,7 @@ struct eom_file {
     int nset;
     int *sym;          /* [nset] setting symbols */
     long *value, *dflt, *lo, *hi;
+    char **desc;       /* [nset] descriptions ("" when none) */
     char summary[160];
 };
 
@@ -30,6 +31,7 @@ static void put(char *err, size_t len, const char *fmt, const char *a,
 
 void eom_file_free(eom_file **f)
 {
+    int k;
     if (!f || !*f)
         return;
     lang_prog_release((*f)->p);
@@ -38,6 +40,9 @@ void eom_file_free(eom_file **f)
     free((*f)->dflt);
     free((*f)->lo);
     free((*f)->hi);
+    for (k = 0; (*f)->desc && k < (*f)->nset; k++)
+        free((*f)->desc[k]);
+    free((*f)->desc);
     free(*f);
     *f = NULL;
 }
@@ -55,7 +60,8 @@ static int settings(eom_file *f, char *err, size_t len)
     f->dflt = calloc((size_t)n + 1, sizeof *f->dflt);
     f->lo = calloc((size_t)n + 1, sizeof *f->lo);
     f->hi = calloc((size_t)n + 1, sizeof *f->hi);
-    if (!f->sym || !f->value || !f->dflt || !f->lo || !f->hi) {
+    f->desc = calloc((size_t)n + 1, sizeof *f->desc);
+    if (!f->sym || !f->value || !f->dflt || !f->lo || !f->hi || !f->desc) {
         put(err, len, "%s%s", "out of memory", "");
         return -1;
     }
@@ -97,6 +103,17 @@ static int settings(eom_file *f, char *err, size_t len)
             return -1;
         }
         f->value[i] = f->dflt[i];
+        {
+            const token *t = s->desc_tok >= 0 ? &p->toks[s->desc_tok] : NULL;
+            size_t dlen = t ? (size_t)(t->len - 2) : 0;
+            if (!(f->desc[i] = malloc(dlen + 1))) {
+                put(err, len, "%s%s", "out of memory", "");
+                return -1;
+            }
+            if (t)
+                memcpy(f->desc[i], p->text + t->off + 1, dlen);
+            f->desc[i][dlen] = '\0';
+        }
         f->nset++;
     }
     free(in.memo);
@@ -262,20 +279,9 @@ const char *eom_file_setting_name(const eom_file *f, int k)
 
 const char *eom_file_setting_description(const eom_file *f, int k)
 {
-    static const char none[] = "";
-    const sym *s;
-    const token *t;
     if (!f || k < 0 || k >= f->nset)
         return NULL;
-    s = &f->p->syms[f->sym[k]];
-    if (s->desc_tok < 0)
-        return none;
-    /* the description token is "text": point into a copy kept in the
-     * symbol's unit buffer, unused for settings */
-    t = &f->p->toks[s->desc_tok];
-    snprintf(f->p->syms[f->sym[k]].unit, sizeof s->unit, "%.*s",
-             t->len - 2, f->p->text + t->off + 1);
-    return s->unit;
+    return f->desc[k];
 }
 
 int eom_file_setting_range(const eom_file *f, int k, long *dflt, long *min,
