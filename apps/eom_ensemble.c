@@ -22,6 +22,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "cli_args.h"
 #include "demos/demos.h"
 #include "demos/file_demo.h"
 #include "ensemble_pool.h"
@@ -33,7 +34,7 @@
 #include "eom/run.h"
 #include "overrides.h"
 
-enum { EXIT_RUN = 1, EXIT_USAGE = 2 };
+enum { EXIT_RUN = 1, EXIT_USAGE = CLI_EXIT_USAGE };
 
 /* This process's MPI rank and the number of ranks (0 and 1 without MPI):
  * only rank 0 speaks on the command line's behalf and writes the
@@ -84,25 +85,6 @@ static const struct option long_options[] = {
     {NULL, 0, NULL, 0},
 };
 
-static int usage_error(const char *fmt, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 1, 2)))
-#endif
-    ;
-
-static int usage_error(const char *fmt, ...)
-{
-    va_list ap;
-    if (g_rank > 0)
-        return EXIT_USAGE; /* rank 0 says it, once */
-    fputs("eom-ensemble: ", stderr);
-    va_start(ap, fmt);
-    vfprintf(stderr, fmt, ap);
-    va_end(ap);
-    fputs("\n(eom-ensemble --help shows the options)\n", stderr);
-    return EXIT_USAGE;
-}
-
 static void help(void)
 {
     printf(
@@ -149,27 +131,12 @@ static void help(void)
         "start, 2 the command\nline is wrong. See docs/ensembles.md.\n");
 }
 
-static int number(const char *opt, const char *text, int positive,
-                  double *out)
-{
-    double v;
-    int rc = eom_numtext_parse_double(text, &v);
-    if (rc != EOM_NUMTEXT_OK)
-        return usage_error("%s '%s': the value %s", opt, text,
-                           eom_numtext_error(rc));
-    if (positive ? !(v > 0.0) : !(v >= 0.0))
-        return usage_error("%s '%s': the value must be %s", opt, text,
-                           positive ? "> 0" : ">= 0");
-    *out = v;
-    return 0;
-}
-
 static int parse(int argc, char **argv, cli *c)
 {
     char err[512];
     double v;
     long l;
-    int opt, rc = 0, m;
+    int opt, rc = 0;
     opterr = 0;
     while (rc == 0 && (opt = getopt_long(argc, argv, ":hs:o:t:q",
                                          long_options, NULL)) != -1) {
@@ -178,7 +145,7 @@ static int parse(int argc, char **argv, cli *c)
         case 's':
             if (override_parse(optarg, &c->sets[c->nsets], err,
                                sizeof err) != 0)
-                return usage_error("%s", err);
+                return cli_usage_error("%s", err);
             c->nsets++;
             break;
         case OPT_RUNS: c->runs = optarg; break;
@@ -187,14 +154,14 @@ static int parse(int argc, char **argv, cli *c)
         case OPT_COUNT:
             if (eom_numtext_parse_long(optarg, &l) != EOM_NUMTEXT_OK ||
                 l < 1)
-                return usage_error("--count '%s': a whole number >= 1",
+                return cli_usage_error("--count '%s': a whole number >= 1",
                                    optarg);
             c->count = l;
             break;
         case OPT_SEED:
             if (eom_numtext_parse_long(optarg, &l) != EOM_NUMTEXT_OK ||
                 l < 0)
-                return usage_error("--seed '%s': a whole number >= 0",
+                return cli_usage_error("--seed '%s': a whole number >= 0",
                                    optarg);
             c->seed = (unsigned long long)l;
             break;
@@ -202,38 +169,34 @@ static int parse(int argc, char **argv, cli *c)
         case OPT_THREADS:
             if (eom_numtext_parse_long(optarg, &l) != EOM_NUMTEXT_OK ||
                 l < 1 || l > 1024)
-                return usage_error("--threads '%s': a whole number from 1 "
+                return cli_usage_error("--threads '%s': a whole number from 1 "
                                    "to 1024", optarg);
             c->threads = (int)l;
             break;
         case OPT_TRAJ: c->traj = optarg; break;
         case OPT_RESUME: c->resume = 1; break;
-        case 't': rc = number("--t-end", optarg, 0, &c->t_end); break;
-        case OPT_SAMPLE: rc = number("--sample", optarg, 1, &c->sample); break;
+        case 't': rc = cli_number_arg("--t-end", optarg, 0, &c->t_end); break;
+        case OPT_SAMPLE: rc = cli_number_arg("--sample", optarg, 1, &c->sample); break;
         case OPT_INTEGRATOR:
-            if ((m = eom_method_from_name(optarg)) < 0)
-                return usage_error("--integrator '%s': unknown integrator "
-                                   "(choose rk4, erk, adams, bdf or ida)",
-                                   optarg);
-            c->opts.method = (eom_method)m;
+            rc = cli_integrator_arg(optarg, &c->opts.method);
             break;
-        case OPT_DT: rc = number("--dt", optarg, 1, &c->opts.dt); break;
-        case OPT_RTOL: rc = number("--rtol", optarg, 1, &c->opts.rtol); break;
-        case OPT_ATOL: rc = number("--atol", optarg, 1, &c->opts.atol); break;
+        case OPT_DT: rc = cli_number_arg("--dt", optarg, 1, &c->opts.dt); break;
+        case OPT_RTOL: rc = cli_number_arg("--rtol", optarg, 1, &c->opts.rtol); break;
+        case OPT_ATOL: rc = cli_number_arg("--atol", optarg, 1, &c->opts.atol); break;
         case OPT_MAX_STEPS:
-            rc = number("--max-steps", optarg, 1, &v);
+            rc = cli_number_arg("--max-steps", optarg, 1, &v);
             if (rc == 0 && (v != floor(v) || v > 1e15))
-                return usage_error("--max-steps '%s': a whole number",
+                return cli_usage_error("--max-steps '%s': a whole number",
                                    optarg);
             c->opts.max_steps = (long)v;
             break;
         case OPT_NO_PROJECT: c->opts.project = 0; break;
         case 'q': c->quiet = 1; break;
         case ':':
-            return usage_error("option '%s' needs an argument",
+            return cli_usage_error("option '%s' needs an argument",
                                argv[optind - 1]);
         default:
-            return usage_error("unknown option '%s'", argv[optind - 1]);
+            return cli_usage_error("unknown option '%s'", argv[optind - 1]);
         }
     }
     if (rc != 0)
@@ -241,7 +204,7 @@ static int parse(int argc, char **argv, cli *c)
     if (optind < argc)
         c->model = argv[optind++];
     if (optind < argc)
-        return usage_error("unexpected argument '%s'", argv[optind]);
+        return cli_usage_error("unexpected argument '%s'", argv[optind]);
     return 0;
 }
 
@@ -425,9 +388,9 @@ static int run(cli *c, const demo *d)
     memset(&runs, 0, sizeof runs);
     memset(&job, 0, sizeof job);
     if (!c->out)
-        return usage_error("--out SUMMARY.csv is required");
+        return cli_usage_error("--out SUMMARY.csv is required");
     if (!!c->runs + (c->nsweeps > 0) + (c->ndists > 0) != 1)
-        return usage_error("give the runs with one of --runs FILE, --sweep "
+        return cli_usage_error("give the runs with one of --runs FILE, --sweep "
                            "NAME=LO:HI:N or --random NAME=...");
     if ((c->runs ? ensemble_runs_read(&runs, c->runs, err, sizeof err)
          : c->nsweeps
@@ -436,13 +399,13 @@ static int run(cli *c, const demo *d)
              : ensemble_runs_random(&runs, c->dists, c->ndists, c->count,
                                     c->seed, err, sizeof err)) != 0) {
         ensemble_runs_free(&runs);
-        return usage_error("%s", err);
+        return cli_usage_error("%s", err);
     }
     settings = malloc(((size_t)d->nsettings + 1) * sizeof *settings);
     if (!settings ||
         overrides_settings(c->sets, c->nsets, d, settings, err,
                            sizeof err) != 0) {
-        status = usage_error("%s", settings ? err : "out of memory");
+        status = cli_usage_error("%s", settings ? err : "out of memory");
         goto done;
     }
     if (d->build(d, settings, &model, err, sizeof err) != 0 ||
@@ -465,7 +428,7 @@ static int run(cli *c, const demo *d)
     eom_initial_state(s, x0);
     if (overrides_apply(c->sets, c->nsets, d, s, x0, err, sizeof err) != 0 ||
         ensemble_runs_resolve(&runs, s, err, sizeof err) != 0) {
-        status = usage_error("%s", err);
+        status = cli_usage_error("%s", err);
         goto done;
     }
     for (k = 0; k < eom_system_nparams(s); k++)
@@ -608,6 +571,7 @@ int main(int argc, char **argv)
         return EXIT_RUN;
     }
 #endif
+    cli_args_program("eom-ensemble", g_rank == 0);
     memset(&c, 0, sizeof c);
     c.t_end = 10.0;
     c.sample = 0.01;
@@ -632,12 +596,12 @@ int main(int argc, char **argv)
     if (status == 0 && c.help) {
         help();
     } else if (status == 0 && !c.model) {
-        status = usage_error("no model given (eom-run --list shows the "
+        status = cli_usage_error("no model given (eom-run --list shows the "
                              "demos and model files)");
     } else if (status == 0) {
         int rc = demo_resolve(c.model, &d, &fd, err, sizeof err);
         if (rc == 1)
-            status = usage_error("unknown demo or model '%s'", c.model);
+            status = cli_usage_error("unknown demo or model '%s'", c.model);
         else if (rc != 0)
             status = (fprintf(stderr, "eom-ensemble: %s\n", err), EXIT_RUN);
         else

@@ -21,6 +21,7 @@
 #include <unistd.h>
 
 #include "eom/run.h"
+#include "cli_args.h"
 #include "demos/demos.h"
 #include "demos/file_demo.h"
 #include "describe.h"
@@ -28,7 +29,7 @@
 #include "modes_report.h"
 #include "overrides.h"
 
-enum { EXIT_RUN = 1, EXIT_USAGE = 2 };
+enum { EXIT_RUN = 1, EXIT_USAGE = CLI_EXIT_USAGE };
 
 /* The largest t_end / sample accepted: beyond it the sample times k *
  * sample lose too much precision to be told apart reliably. */
@@ -173,40 +174,6 @@ static void help(void)
         "See docs/cli.md, docs/csv.md, docs/demos.md and docs/models.md.\n");
 }
 
-static int usage_error(const char *fmt, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 1, 2)))
-#endif
-    ;
-
-/* Print "eom-run: <message>" and a hint; returns EXIT_USAGE. */
-static int usage_error(const char *fmt, ...)
-{
-    va_list ap;
-    fputs("eom-run: ", stderr);
-    va_start(ap, fmt);
-    vfprintf(stderr, fmt, ap);
-    va_end(ap);
-    fputs("\n(eom-run --help shows the options)\n", stderr);
-    return EXIT_USAGE;
-}
-
-/* A number option: finite, and > 0 (positive) or >= 0. */
-static int number_arg(const char *opt, const char *text, int positive,
-                      double *out)
-{
-    double v;
-    int rc = eom_numtext_parse_double(text, &v);
-    if (rc != EOM_NUMTEXT_OK)
-        return usage_error("%s '%s': the value %s", opt, text,
-                           eom_numtext_error(rc));
-    if (positive ? !(v > 0.0) : !(v >= 0.0))
-        return usage_error("%s '%s': the value must be %s", opt, text,
-                           positive ? "> 0" : ">= 0");
-    *out = v;
-    return 0;
-}
-
 /* --erk-table: one of the names libeom knows, else the list. */
 static int erk_table_arg(const char *text, const char **out)
 {
@@ -220,18 +187,8 @@ static int erk_table_arg(const char *text, const char **out)
         snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s",
                  k ? ", " : "", eom_erk_table_name(k));
     }
-    return usage_error("--erk-table '%s': unknown table (choose one of %s)",
+    return cli_usage_error("--erk-table '%s': unknown table (choose one of %s)",
                        text, list);
-}
-
-static int integrator_arg(const char *text, eom_method *out)
-{
-    int m = eom_method_from_name(text);
-    if (m < 0)
-        return usage_error("--integrator '%s': unknown integrator (choose "
-                           "rk4, erk, adams, bdf or ida)", text);
-    *out = (eom_method)m;
-    return 0;
 }
 
 static int max_steps_arg(const char *text, long *out)
@@ -239,10 +196,10 @@ static int max_steps_arg(const char *text, long *out)
     long v;
     int rc = eom_numtext_parse_long(text, &v);
     if (rc != EOM_NUMTEXT_OK)
-        return usage_error("--max-steps '%s': the value %s", text,
+        return cli_usage_error("--max-steps '%s': the value %s", text,
                            eom_numtext_error(rc));
     if (v < 1)
-        return usage_error("--max-steps '%s': the value must be >= 1", text);
+        return cli_usage_error("--max-steps '%s': the value must be >= 1", text);
     *out = v;
     return 0;
 }
@@ -253,14 +210,14 @@ static int baumgarte_arg(const char *text, double *alpha, double *beta)
     char a[64];
     size_t la;
     if (!comma)
-        return usage_error("--baumgarte '%s': expected ALPHA,BETA", text);
+        return cli_usage_error("--baumgarte '%s': expected ALPHA,BETA", text);
     la = (size_t)(comma - text);
     if (la >= sizeof a)
-        return usage_error("--baumgarte '%s': ALPHA is too long", text);
+        return cli_usage_error("--baumgarte '%s': ALPHA is too long", text);
     memcpy(a, text, la);
     a[la] = '\0';
-    if (number_arg("--baumgarte (ALPHA)", a, 0, alpha) ||
-        number_arg("--baumgarte (BETA)", comma + 1, 0, beta))
+    if (cli_number_arg("--baumgarte (ALPHA)", a, 0, alpha) ||
+        cli_number_arg("--baumgarte (BETA)", comma + 1, 0, beta))
         return EXIT_USAGE;
     return 0;
 }
@@ -277,7 +234,7 @@ static int columns_arg(const char *text, unsigned *out)
     const char *p = text;
     unsigned flags = 0;
     if (!*p)
-        return usage_error("--columns: empty list (choose from "
+        return cli_usage_error("--columns: empty list (choose from "
                            "accelerations, multipliers, condition)");
     while (*p) {
         size_t len = strcspn(p, ","), k;
@@ -286,7 +243,7 @@ static int columns_arg(const char *text, unsigned *out)
                 strncmp(groups[k].name, p, len) == 0)
                 break;
         if (k == sizeof groups / sizeof groups[0])
-            return usage_error("--columns '%s': unknown group '%.*s' (choose "
+            return cli_usage_error("--columns '%s': unknown group '%.*s' (choose "
                                "from accelerations, multipliers, "
                                "condition)", text, (int)len, p);
         flags |= groups[k].flag;
@@ -305,10 +262,10 @@ static int bad_option(char **argv)
     const char *arg = argv[optind - 1];
     if (strncmp(arg, "--", 2) == 0) {
         if (optopt != 0)
-            return usage_error("option '%s' does not take an argument", arg);
-        return usage_error("unknown or ambiguous option '%s'", arg);
+            return cli_usage_error("option '%s' does not take an argument", arg);
+        return cli_usage_error("unknown or ambiguous option '%s'", arg);
     }
-    return usage_error("unknown option '-%c'", optopt);
+    return cli_usage_error("unknown option '-%c'", optopt);
 }
 
 /* Read the command line into *c. Returns 0, or EXIT_USAGE after a
@@ -328,25 +285,25 @@ static int parse(int argc, char **argv, cli *c)
         case 's':
             if (override_parse(optarg, &c->sets[c->nsets], err,
                                sizeof err) != 0)
-                return usage_error("%s", err);
+                return cli_usage_error("%s", err);
             c->nsets++;
             break;
-        case 't': rc = number_arg("--t-end", optarg, 0, &c->t_end); break;
+        case 't': rc = cli_number_arg("--t-end", optarg, 0, &c->t_end); break;
         case OPT_SAMPLE:
-            rc = number_arg("--sample", optarg, 1, &c->sample);
+            rc = cli_number_arg("--sample", optarg, 1, &c->sample);
             break;
         case OPT_INTEGRATOR:
-            rc = integrator_arg(optarg, &c->opts.method);
+            rc = cli_integrator_arg(optarg, &c->opts.method);
             break;
         case OPT_ERK_TABLE:
             rc = erk_table_arg(optarg, &c->opts.erk_table);
             break;
-        case OPT_DT: rc = number_arg("--dt", optarg, 1, &c->opts.dt); break;
+        case OPT_DT: rc = cli_number_arg("--dt", optarg, 1, &c->opts.dt); break;
         case OPT_RTOL:
-            rc = number_arg("--rtol", optarg, 1, &c->opts.rtol);
+            rc = cli_number_arg("--rtol", optarg, 1, &c->opts.rtol);
             break;
         case OPT_ATOL:
-            rc = number_arg("--atol", optarg, 1, &c->opts.atol);
+            rc = cli_number_arg("--atol", optarg, 1, &c->opts.atol);
             break;
         case OPT_MAX_STEPS:
             rc = max_steps_arg(optarg, &c->opts.max_steps);
@@ -361,12 +318,12 @@ static int parse(int argc, char **argv, cli *c)
             break;
         case 'o':
             if (!optarg[0])
-                return usage_error("--out: empty file name");
+                return cli_usage_error("--out: empty file name");
             c->out = optarg;
             break;
         case 'q': c->quiet = 1; break;
         case ':':
-            return usage_error("option '%s' needs an argument",
+            return cli_usage_error("option '%s' needs an argument",
                                argv[optind - 1]);
         default: return bad_option(argv);
         }
@@ -376,7 +333,7 @@ static int parse(int argc, char **argv, cli *c)
     if (optind < argc)
         c->demo_name = argv[optind++];
     if (optind < argc)
-        return usage_error("unexpected argument '%s' (one demo at a time)",
+        return cli_usage_error("unexpected argument '%s' (one demo at a time)",
                            argv[optind]);
     return 0;
 }
@@ -390,7 +347,7 @@ static int find_demo(const char *name, const demo **d, demo **fd)
     char err[4096];
     int rc = demo_resolve(name, d, fd, err, sizeof err);
     if (rc == 1)
-        return usage_error("unknown demo '%s' (eom-run --list shows the "
+        return cli_usage_error("unknown demo '%s' (eom-run --list shows the "
                            "demos and model files; a model file's name "
                            "ends in .eom)", name);
     if (rc != 0) {
@@ -413,14 +370,14 @@ static int run(cli *c, const demo *d)
     eom_run_opts plan;
 
     if (c->modes && c->describe)
-        return usage_error("--modes and --describe: give one of them");
+        return cli_usage_error("--modes and --describe: give one of them");
     if (c->modes && (c->plots || c->out))
-        return usage_error("--modes prints to standard output and runs "
+        return cli_usage_error("--modes prints to standard output and runs "
                            "nothing: --out and --plots belong to a run");
     if (c->plots && !d->after_run)
-        return usage_error("--plots: the demo %s has no plots", d->name);
+        return cli_usage_error("--plots: the demo %s has no plots", d->name);
     if (c->t_end / c->sample > MAX_ROWS)
-        return usage_error("--t-end / --sample = %g: more than %g rows",
+        return cli_usage_error("--t-end / --sample = %g: more than %g rows",
                            c->t_end / c->sample, MAX_ROWS);
     settings = malloc(((size_t)d->nsettings + 1) * sizeof(double));
     if (!settings) {
@@ -430,7 +387,7 @@ static int run(cli *c, const demo *d)
     if (overrides_settings(c->sets, c->nsets, d, settings, err,
                            sizeof err) != 0) {
         free(settings);
-        return usage_error("%s", err);
+        return cli_usage_error("%s", err);
     }
 
     if (d->build(d, settings, &model, err, sizeof err) != 0) {
@@ -455,7 +412,7 @@ static int run(cli *c, const demo *d)
         goto done;
     }
     if (overrides_apply(c->sets, c->nsets, d, s, x0, err, sizeof err) != 0) {
-        status = usage_error("%s", err);
+        status = cli_usage_error("%s", err);
         goto done;
     }
     if (c->baumgarte && eom_set_baumgarte(s, c->alpha, c->beta) != EOM_OK) {
@@ -563,6 +520,7 @@ int main(int argc, char **argv)
     int status;
 
     memset(&c, 0, sizeof c);
+    cli_args_program("eom-run", 1);
     c.t_end = 10.0;
     c.sample = 0.01;
     /* the defaults documented in --help and docs/cli.md, stated here so
@@ -590,7 +548,7 @@ int main(int argc, char **argv)
             file_demo_list(stdout);
         } else if (!c.demo_name) {
             usage_line(stderr);
-            status = usage_error("no demo given (eom-run --list shows the "
+            status = cli_usage_error("no demo given (eom-run --list shows the "
                                  "demos)");
         } else {
             const demo *d = NULL;

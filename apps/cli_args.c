@@ -1,0 +1,54 @@
+/* cli_args.c - shared command-line pieces of the programs (cli_args.h). */
+#include "cli_args.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+
+#include "eom/run.h"
+
+static const char *program = "eom-run";
+static int speaks = 1;
+
+void cli_args_program(const char *name, int speak)
+{
+    program = name;
+    speaks = speak;
+}
+
+int cli_usage_error(const char *fmt, ...)
+{
+    va_list ap;
+    if (!speaks)
+        return CLI_EXIT_USAGE;
+    fprintf(stderr, "%s: ", program);
+    va_start(ap, fmt);
+    vfprintf(stderr, fmt, ap);
+    va_end(ap);
+    fprintf(stderr, "\n(%s --help shows the options)\n", program);
+    return CLI_EXIT_USAGE;
+}
+
+int cli_number_arg(const char *opt, const char *text, int positive,
+                   double *out)
+{
+    double v;
+    int rc = eom_numtext_parse_double(text, &v);
+    if (rc != EOM_NUMTEXT_OK)
+        return cli_usage_error("%s '%s': the value %s", opt, text,
+                               eom_numtext_error(rc));
+    if (positive ? !(v > 0.0) : !(v >= 0.0))
+        return cli_usage_error("%s '%s': the value must be %s", opt, text,
+                               positive ? "> 0" : ">= 0");
+    *out = v;
+    return 0;
+}
+
+int cli_integrator_arg(const char *text, eom_method *out)
+{
+    int m = eom_method_from_name(text);
+    if (m < 0)
+        return cli_usage_error("--integrator '%s': unknown integrator "
+                               "(choose rk4, erk, adams, bdf or ida)", text);
+    *out = (eom_method)m;
+    return 0;
+}
