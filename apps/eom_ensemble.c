@@ -398,8 +398,11 @@ static int run(cli *c, const demo *d)
                                    sizeof err)
              : ensemble_runs_random(&runs, c->dists, c->ndists, c->count,
                                     c->seed, err, sizeof err)) != 0) {
-        ensemble_runs_free(&runs);
-        return cli_usage_error("%s", err);
+        /* a file another machine may lack: every rank must hear of it */
+        if (g_rank > 0)
+            fprintf(stderr, "eom-ensemble (rank %d): %s\n", g_rank, err);
+        status = cli_usage_error("%s", err);
+        goto done;
     }
     settings = malloc(((size_t)d->nsettings + 1) * sizeof *settings);
     if (!settings ||
@@ -469,6 +472,9 @@ static int run(cli *c, const demo *d)
      * wait for ever) */
     setup_ok = 1;
     if (g_size > 1 && !ensemble_mpi_all_ok(1)) {
+        if (g_rank == 0)
+            fprintf(stderr, "eom-ensemble: another rank could not set up "
+                    "the ensemble (see its message): nothing was run\n");
         status = EXIT_RUN;
         goto destroy;
     }
@@ -603,9 +609,17 @@ int main(int argc, char **argv)
         if (rc == 1)
             status = cli_usage_error("unknown demo or model '%s'", c.model);
         else if (rc != 0)
-            status = (fprintf(stderr, "eom-ensemble: %s\n", err), EXIT_RUN);
+            status = (fprintf(stderr, "eom-ensemble%s: %s\n",
+                              g_rank > 0 ? " (another rank)" : "", err),
+                      EXIT_RUN);
         else
             status = run(&c, d);
+#ifdef EOM_ENSEMBLE_MPI
+        /* a rank that found no model releases the others, which wait for
+         * every rank to be ready */
+        if (rc != 0 && g_size > 1)
+            ensemble_mpi_all_ok(0);
+#endif
         file_demo_free(&fd);
     }
     free(c.sets);

@@ -412,6 +412,47 @@ static void case_mpi(void)
     free(text);
 }
 
+/* Two ranks, and the model file only where rank 0 runs: the other rank
+ * says so and both stop, instead of rank 0 waiting for ever. */
+static void case_mpi_setup(void)
+{
+    char a[300], b[300], model[400], cmd[3000], *err;
+    FILE *f;
+    int st;
+    scratch(a, sizeof a, "wa");
+    scratch(b, sizeof b, "wb");
+    CHECK(mkdir(a, 0700) == 0 && mkdir(b, 0700) == 0);
+    snprintf(model, sizeof model, "%s/m.eom", a);
+    f = fopen(model, "w");
+    CHECK(f != NULL);
+    if (!f)
+        return;
+    fputs("param m = 1 [kg]\nparam k = 10 [N/m]\ncoord x = 1 [m]\n"
+          "T = 1/2*m*x_dot^2\nV = 1/2*k*x^2\n", f);
+    fclose(f);
+    snprintf(cmd, sizeof cmd,
+             "timeout 60 mpirun --oversubscribe -np 1 --wdir %s %s m.eom "
+             "--sweep k=1:2:2 --out o.csv : -np 1 --wdir %s %s m.eom "
+             "--sweep k=1:2:2 --out o.csv > %s/out.txt 2>&1",
+             a, cli_program, b, cli_program, a);
+    st = system(cmd);
+    CHECK(WIFEXITED(st) && WEXITSTATUS(st) != 0 && WEXITSTATUS(st) != 124);
+    snprintf(cmd, sizeof cmd, "%s/out.txt", a);
+    err = read_file(cmd, NULL);
+    CHECK(err != NULL);
+    if (err) {
+        CHECK_HAS(err, "cannot open the model file");
+        CHECK_HAS(err, "another rank could not set up the ensemble");
+    }
+    free(err);
+    unlink(cmd);
+    unlink(model);
+    snprintf(cmd, sizeof cmd, "%s/o.csv", a);
+    unlink(cmd);
+    rmdir(a);
+    rmdir(b);
+}
+
 static void case_usage(void)
 {
     const char *no_out[] = {"spring-pendulum", "--sweep", "k=1:2:2", NULL};
@@ -449,6 +490,7 @@ static const struct {
     {"ensemble_trajectories", case_trajectories},
     {"ensemble_usage", case_usage}, {"ensemble_random", case_random},
     {"ensemble_mpi", case_mpi}, {"ensemble_kill", case_kill},
+    {"ensemble_mpi_setup", case_mpi_setup},
 };
 
 int main(int argc, char **argv)
