@@ -61,6 +61,8 @@ enum {
     OPT_RTOL,
     OPT_ATOL,
     OPT_MAX_STEPS,
+    OPT_MAX_ORDER,
+    OPT_TOL_PER_STEP,
     OPT_NO_PROJECT,
     OPT_BAUMGARTE,
     OPT_PLOTS,
@@ -81,6 +83,8 @@ static const struct option long_options[] = {
     {"rtol", required_argument, NULL, OPT_RTOL},
     {"atol", required_argument, NULL, OPT_ATOL},
     {"max-steps", required_argument, NULL, OPT_MAX_STEPS},
+    {"max-order", required_argument, NULL, OPT_MAX_ORDER},
+    {"tol-per-step", no_argument, NULL, OPT_TOL_PER_STEP},
     {"no-project", no_argument, NULL, OPT_NO_PROJECT},
     {"baumgarte", required_argument, NULL, OPT_BAUMGARTE},
     {"out", required_argument, NULL, 'o'},
@@ -134,6 +138,15 @@ static void help(void)
         "(default 1e-10)\n"
         "      --max-steps N     at most N steps between two rows, >= 1 "
         "(default 10000000)\n"
+        "      --max-order K     adams, bdf, ida: the highest order used "
+        "(adams 1..12,\n"
+        "                        bdf and ida 1..5; default: the highest)\n"
+        "      --tol-per-step    hand adams, bdf and ida rtol and atol as "
+        "given, for each\n"
+        "                        step's error test (default: tighter "
+        "per-step tolerances\n"
+        "                        that keep the run's error near rtol and "
+        "atol)\n"
         "      --no-project      do not project the state onto the "
         "constraints, neither\n"
         "                        the initial state nor after each step\n"
@@ -201,6 +214,20 @@ static int max_steps_arg(const char *text, long *out)
     if (v < 1)
         return cli_usage_error("--max-steps '%s': the value must be >= 1", text);
     *out = v;
+    return 0;
+}
+
+static int max_order_arg(const char *text, int *out)
+{
+    long v;
+    int rc = eom_numtext_parse_long(text, &v);
+    if (rc != EOM_NUMTEXT_OK)
+        return cli_usage_error("--max-order '%s': the value %s", text,
+                               eom_numtext_error(rc));
+    if (v < 1 || v > 12)
+        return cli_usage_error("--max-order '%s': the value must be 1 to 12 "
+                               "(adams) or 1 to 5 (bdf, ida)", text);
+    *out = (int)v;
     return 0;
 }
 
@@ -308,6 +335,10 @@ static int parse(int argc, char **argv, cli *c)
         case OPT_MAX_STEPS:
             rc = max_steps_arg(optarg, &c->opts.max_steps);
             break;
+        case OPT_MAX_ORDER:
+            rc = max_order_arg(optarg, &c->opts.max_order);
+            break;
+        case OPT_TOL_PER_STEP: c->opts.tol_per_step = 1; break;
         case OPT_NO_PROJECT: c->opts.project = 0; break;
         case OPT_PLOTS: c->plots = 1; break;
         case OPT_MODES: c->modes = 1; break;

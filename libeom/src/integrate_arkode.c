@@ -149,19 +149,13 @@ static int erk_init(eom_integ *it)
     } else if ((flag = ERKStepSetTableNum(e->mem, ERK_TABLE)) < 0) {
         return erk_setup_failed(it, flag, "ERKStepSetTableNum");
     }
-    if (it->atolv) {
-        N_Vector a = N_VNew_Serial(it->N, e->ctx);
-        if (!a)
-            return eom__integ_nomem(it);
-        eom__integ_atol(it, N_VGetArrayPointer(a), it->N);
-        flag = ERKStepSVtolerances(e->mem, it->o.rtol, a); /* copies a */
-        N_VDestroy(a);
-        if (flag < 0)
-            return erk_setup_failed(it, flag, "ERKStepSVtolerances");
-    } else if ((flag = ERKStepSStolerances(e->mem, it->o.rtol,
-                                           it->o.atol)) < 0) {
-        return erk_setup_failed(it, flag, "ERKStepSStolerances");
-    }
+    flag = eom__sun_tolerances(it, e->mem, e->ctx, it->N,
+                               ERKStepSStolerances, ERKStepSVtolerances);
+    if (flag == 1)
+        return eom__integ_nomem(it);
+    if (flag < 0)
+        return erk_setup_failed(it, flag, it->atolv ? "ERKStepSVtolerances"
+                                                 : "ERKStepSStolerances");
     /* explicitly: the default of 500 would stop tight-tolerance runs */
     if ((flag = ERKStepSetMaxNumSteps(e->mem, it->o.max_steps)) < 0)
         return erk_setup_failed(it, flag, "ERKStepSetMaxNumSteps");

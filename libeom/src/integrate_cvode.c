@@ -228,24 +228,20 @@ static int cv_init(eom_integ *it)
         return cv_setup_failed(it, flag, "CVodeInit");
     if ((flag = CVodeSetUserData(c->mem, it)) < 0)
         return cv_setup_failed(it, flag, "CVodeSetUserData");
-    if (it->atolv) {
-        N_Vector a = N_VNew_Serial((sunindextype)it->N, c->ctx);
-        if (!a)
-            return eom__integ_nomem(it);
-        eom__integ_atol(it, N_VGetArrayPointer(a), it->N);
-        flag = CVodeSVtolerances(c->mem, it->o.rtol, a); /* copies a */
-        N_VDestroy(a);
-        if (flag < 0)
-            return cv_setup_failed(it, flag, "CVodeSVtolerances");
-    } else if ((flag = CVodeSStolerances(c->mem, it->o.rtol,
-                                         it->o.atol)) < 0) {
-        return cv_setup_failed(it, flag, "CVodeSStolerances");
-    }
+    flag = eom__sun_tolerances(it, c->mem, c->ctx, N, CVodeSStolerances,
+                               CVodeSVtolerances);
+    if (flag == 1)
+        return eom__integ_nomem(it);
+    if (flag < 0)
+        return cv_setup_failed(it, flag, it->atolv ? "CVodeSVtolerances"
+                                                 : "CVodeSStolerances");
     /* explicitly: the default of 500 would stop tight-tolerance runs */
     if ((flag = CVodeSetMaxNumSteps(c->mem, it->o.max_steps)) < 0)
         return cv_setup_failed(it, flag, "CVodeSetMaxNumSteps");
     if (it->o.dt > 0.0 && (flag = CVodeSetInitStep(c->mem, it->o.dt)) < 0)
         return cv_setup_failed(it, flag, "CVodeSetInitStep");
+    if ((flag = CVodeSetMaxOrd(c->mem, eom__integ_max_order(it))) < 0)
+        return cv_setup_failed(it, flag, "CVodeSetMaxOrd");
     return cv_init_method(it, c);
 }
 

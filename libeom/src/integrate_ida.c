@@ -170,22 +170,19 @@ static int ida_setup(eom_integ *it, ida *d)
     int flag;
     if ((flag = IDASetUserData(d->mem, it)) < 0)
         return ida_setup_failed(it, flag, "IDASetUserData");
-    if (it->atolv) {
-        /* Y = (q, v, lambda, W): atol_vec for q and v, atol after */
-        N_Vector a = N_VNew_Serial(d->NY, d->ctx);
-        if (!a)
-            return eom__integ_nomem(it);
-        eom__integ_atol(it, N_VGetArrayPointer(a), d->NY);
-        flag = IDASVtolerances(d->mem, it->o.rtol, a); /* copies a */
-        N_VDestroy(a);
-        if (flag < 0)
-            return ida_setup_failed(it, flag, "IDASVtolerances");
-    } else if ((flag = IDASStolerances(d->mem, it->o.rtol, it->o.atol)) < 0) {
-        return ida_setup_failed(it, flag, "IDASStolerances");
-    }
+    /* Y = (q, v, lambda, W): atol_vec for q and v, atol after */
+    flag = eom__sun_tolerances(it, d->mem, d->ctx, d->NY, IDASStolerances,
+                               IDASVtolerances);
+    if (flag == 1)
+        return eom__integ_nomem(it);
+    if (flag < 0)
+        return ida_setup_failed(it, flag, it->atolv ? "IDASVtolerances"
+                                                 : "IDASStolerances");
     /* explicitly: the default of 500 would stop tight-tolerance runs */
     if ((flag = IDASetMaxNumSteps(d->mem, it->o.max_steps)) < 0)
         return ida_setup_failed(it, flag, "IDASetMaxNumSteps");
+    if ((flag = IDASetMaxOrd(d->mem, eom__integ_max_order(it))) < 0)
+        return ida_setup_failed(it, flag, "IDASetMaxOrd");
     if (it->o.dt > 0.0 && (flag = IDASetInitStep(d->mem, it->o.dt)) < 0)
         return ida_setup_failed(it, flag, "IDASetInitStep");
     if (m > 0) {

@@ -9,6 +9,9 @@
 #ifndef EOM_INTEGRATE_INTERNAL_H
 #define EOM_INTEGRATE_INTERNAL_H
 
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_context.h>
+
 #include "eom_internal.h"
 
 typedef struct eom_integ_ops {
@@ -43,9 +46,21 @@ struct eom_integ {
     char erk_table[EOM_TABLE_NAME_LEN]; /* o.erk_table, or "" */
 };
 
-/* The absolute tolerance of each of the len components of a solver's
- * unknowns: atol_vec for the first 2n (q, qd) when given, atol for the
- * rest and otherwise. */
+/* The highest order of a variable-order method (adams 12, bdf and ida
+ * 5; 0 for the others), and the one an integrator uses (o.max_order, or
+ * the method's own). */
+int eom__integ_top_order(eom_method m);
+int eom__integ_max_order(const eom_integ *it);
+
+/* The per-step tolerance a solver's error test is given for a tolerance
+ * tol of the caller's: tol itself with o.tol_per_step and for rk4 and
+ * erk; for adams, bdf and ida the tighter tolerance calibrated to keep
+ * the global error near tol (docs/integrators.md). */
+double eom__integ_step_tol(const eom_integ *it, double tol);
+
+/* The per-step absolute tolerance of each of the len components of a
+ * solver's unknowns: from atol_vec for the first 2n (q, qd) when given,
+ * from atol for the rest and otherwise. */
 void eom__integ_atol(const eom_integ *it, double *atol, int len);
 
 /* yd = dy/dt at (t, y): (qd, qdd, dW/dt). Counts the evaluation. Returns
@@ -73,6 +88,16 @@ typedef struct eom_sun_report {
     char cb_msg[2 * EOM_MSG_LEN];
     char sun_msg[EOM_MSG_LEN];
 } eom_sun_report;
+
+/* A solver's scalar and vector tolerance setters (CVodeSStolerances,
+ * IDASVtolerances, ...). */
+typedef int (*eom_sun_ss)(void *mem, double rtol, double atol);
+typedef int (*eom_sun_sv)(void *mem, double rtol, N_Vector atol);
+/* Give the solver mem the per-step tolerances of it for len unknowns:
+ * scalar ones, or a vector with atol_vec. Returns the setter's flag, or
+ * 1 when out of memory. */
+int eom__sun_tolerances(eom_integ *it, void *mem, SUNContext ctx, int len,
+                        eom_sun_ss ss, eom_sun_sv sv);
 
 /* Forget the previous advance's callback status and messages. */
 void eom__sun_report_reset(eom_sun_report *r);

@@ -37,6 +37,23 @@ void eom__sun_error(int code, const char *module, const char *function,
         snprintf(r->sun_msg, sizeof r->sun_msg, "%s: %s", function, msg);
 }
 
+int eom__sun_tolerances(eom_integ *it, void *mem, SUNContext ctx, int len,
+                        eom_sun_ss ss, eom_sun_sv sv)
+{
+    const double rtol = eom__integ_step_tol(it, it->o.rtol);
+    N_Vector a;
+    int flag;
+    if (!it->atolv) {
+        return ss(mem, rtol, eom__integ_step_tol(it, it->o.atol));
+    }
+    if (!(a = N_VNew_Serial((sunindextype)len, ctx)))
+        return 1;
+    eom__integ_atol(it, N_VGetArrayPointer(a), len);
+    flag = sv(mem, rtol, a); /* copies a */
+    N_VDestroy(a);
+    return flag;
+}
+
 int eom__integ_nomem(eom_integ *it)
 {
     snprintf(it->msg, sizeof it->msg, "out of memory");

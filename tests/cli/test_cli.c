@@ -221,7 +221,7 @@ static void case_help(void)
     static const char *const options[] = {
         "--help", "--list", "--describe", "--set", "--t-end", "--sample",
         "--integrator", "--dt", "--rtol", "--atol", "--max-steps",
-        "--no-project", "--baumgarte", "--out", "--quiet", NULL};
+        "--max-order", "--tol-per-step", "--no-project", "--baumgarte", "--out", "--quiet", NULL};
     const char *args[] = {"--help", NULL};
     char *doc = docs_cli ? read_file(docs_cli, NULL) : NULL;
     const char *p;
@@ -422,6 +422,9 @@ static void case_usage(void)
         {{"spring-pendulum", "--atol", "-1"}, 2, "--atol"},
         {{"spring-pendulum", "--max-steps", "0"}, 2, "must be >= 1"},
         {{"spring-pendulum", "--max-steps", "2.5"}, 2, "not an integer"},
+        {{"spring-pendulum", "--max-order", "0"}, 2, "1 to 12"},
+        {{"spring-pendulum", "--max-order", "2.5"}, 2, "not an integer"},
+        {{"spring-pendulum", "--max-order", "13"}, 2, "1 to 12"},
         {{"spring-pendulum", "--baumgarte", "1"}, 2, "ALPHA,BETA"},
         {{"spring-pendulum", "--baumgarte", "1,-2"}, 2, "must be >= 0"},
         {{"spring-pendulum", "--integrator", "euler"}, 2,
@@ -556,6 +559,39 @@ static void case_methods(void)
     }
 }
 
+/* bdf's steps over 1 s from the summary, with extra options */
+static double bdf_steps(const char *rtol, const char *opt, const char *val)
+{
+    char path[300];
+    const char *args[] = {"spring-pendulum", "--integrator", "bdf",
+                          "--t-end", "1", "--rtol", rtol, "--atol", rtol,
+                          "--out", path, opt, val, NULL};
+    double steps;
+    result r;
+    scratch(path, sizeof path, "out.csv");
+    run(&r, args);
+    CHECK_INT(r.status, 0);
+    steps = number_after(r.err, "steps ");
+    result_free(&r);
+    return steps;
+}
+
+/* --tol-per-step hands bdf the tolerance as given: fewer steps than the
+ * default's tighter per-step tolerance; --max-order 1 (backward Euler)
+ * takes more steps than order 5 */
+static void case_tolerances(void)
+{
+    const double dflt = bdf_steps("1e-8", NULL, NULL);
+    const double given = bdf_steps("1e-8", "--tol-per-step", NULL);
+    const double five = bdf_steps("1e-4", NULL, NULL);
+    const double euler = bdf_steps("1e-4", "--max-order", "1");
+    printf("bdf steps over 1 s at 1e-8: %g by default, %g with "
+           "--tol-per-step; at 1e-4: %g, %g with --max-order 1\n", dflt,
+           given, five, euler);
+    CHECK(given > 0 && dflt > 1.5 * given);
+    CHECK(five > 0 && euler > 3.0 * five);
+}
+
 static const struct {
     const char *name;
     void (*fn)(void);
@@ -564,7 +600,7 @@ static const struct {
     {"help", case_help},       {"csv", case_csv},
     {"grid", case_grid},       {"set", case_set},
     {"usage", case_usage},     {"failure", case_failure},
-    {"methods", case_methods},
+    {"methods", case_methods}, {"tolerances", case_tolerances},
 };
 
 int main(int argc, char **argv)

@@ -23,7 +23,8 @@
  *   - per-coordinate absolute tolerances (atol_vec): equal entries give
  *     the scalar atol's run bit for bit, loose ones a looser result, a
  *     bad entry an error.
- * The other methods' order and proportionality are not checked here yet.
+ * adams, bdf and ida (order at each highest order, and the global error
+ * against the tolerance on three models) are test_tolerance.c's.
  */
 #include <math.h>
 #include <stdio.h>
@@ -279,31 +280,6 @@ int main(void)
             CHECK_FAIL_("erk at tol %g: error %.3g is %.3g x tol", tol,
                         max_diff(x, ref2), max_diff(x, ref2) / tol);
     }
-    /* adams (variable order up to 12): its error falls with its steps at
-     * a high order; its error against its tolerance is reported (31 to
-     * 100 x here, docs/integrators.md) */
-    for (i = 0; i < 4; i++) {
-        const double tol = pow(10.0, -6 - 2 * i);
-        CHECK_INT(run(s, EOM_ADAMS, 0.0, tol, x, &steps), EOM_OK);
-        xs[i] = (double)steps;
-        err[i] = max_diff(x, ref2);
-        printf("adams tol %-6g steps %6ld error %.3g (%.3g x tol)\n", tol,
-               steps, err[i], err[i] / tol);
-    }
-    p = -slope(4, xs, err);
-    printf("adams: observed order %.2f\n", p);
-    CHECK(p > 4.0);
-    /* bdf and ida: reported (their error is 100 to 400 x the tolerance
-     * here; docs/integrators.md, "Choosing a method") */
-    for (i = 0; i < 3; i++) {
-        const double tol = pow(10.0, -6 - 3 * i);
-        CHECK_INT(run(s, EOM_BDF, 0.0, tol, x, &steps), EOM_OK);
-        printf("bdf tol %-6g steps %6ld error %.3g (%.3g x tol)\n", tol,
-               steps, max_diff(x, ref2), max_diff(x, ref2) / tol);
-        CHECK_INT(run(s, EOM_IDA, 0.0, tol, x, &steps), EOM_OK);
-        printf("ida tol %-6g steps %6ld error %.3g (%.3g x tol)\n", tol,
-               steps, max_diff(x, ref2), max_diff(x, ref2) / tol);
-    }
     /* erk with the Dormand-Prince 5(4) table, by name */
     for (i = 0; i < 5; i++) {
         const double tol = pow(10.0, -6 - i);
@@ -352,6 +328,30 @@ int main(void)
         CHECK_INT(eom_integ_new(&it, s, &o, 0.0, x), EOM_ERR_ARG);
         CHECK(strstr(eom_system_errmsg(s), "ARKODE_NO_SUCH_TABLE") != NULL);
         CHECK(it == NULL);
+    }
+    {
+        /* max_order: within the method's own orders */
+        static const eom_method m[] = {EOM_ADAMS, EOM_BDF, EOM_IDA};
+        static const int top[] = {12, 5, 5};
+        eom_integ *it = NULL;
+        eom_opts o;
+        eom_opts_default(&o);
+        CHECK_INT(eom_initial_state(s, x), EOM_OK);
+        for (i = 0; i < 3; i++) {
+            o.method = m[i];
+            o.max_order = top[i] + 1;
+            CHECK_INT(eom_integ_new(&it, s, &o, 0.0, x), EOM_ERR_ARG);
+            CHECK(strstr(eom_system_errmsg(s), "max_order") != NULL);
+            o.max_order = -1;
+            CHECK_INT(eom_integ_new(&it, s, &o, 0.0, x), EOM_ERR_ARG);
+            o.max_order = top[i];
+            CHECK_INT(eom_integ_new(&it, s, &o, 0.0, x), EOM_OK);
+            eom_integ_free(&it);
+        }
+        o.method = EOM_ERK; /* ignored */
+        o.max_order = 99;
+        CHECK_INT(eom_integ_new(&it, s, &o, 0.0, x), EOM_OK);
+        eom_integ_free(&it);
     }
     eom_system_free(&s);
     tolerances();

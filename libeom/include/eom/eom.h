@@ -351,6 +351,16 @@ typedef struct eom_opts {
                                as "ARKODE_DORMAND_PRINCE_7_4_5" (docs/
                                integrators.md lists them); NULL (default):
                                "ARKODE_VERNER_8_5_6"; copied */
+    int tol_per_step; /* 0 (default): rtol and atol are targets for the
+                         global error, and adams, bdf and ida are handed
+                         the tighter per-step tolerances calibrated to
+                         meet them (docs/integrators.md, "What the
+                         tolerances mean"); 1: every method gets rtol and
+                         atol as given, for its own per-step error test */
+    int max_order;    /* adams, bdf, ida: the highest order used, 1 to
+                         12 (adams) or 5 (bdf, ida); 0 (default): 12 or
+                         5. bdf at order 2 or less is A-stable, for stiff
+                         oscillatory motion. Ignored by rk4 and erk. */
 } eom_opts;
 
 /* The names eom_opts.erk_table accepts: the k-th for k = 0, 1, ..., then
