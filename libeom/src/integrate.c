@@ -138,6 +138,16 @@ int eom__integ_rhs(eom_integ *it, double t, const double *y, double *yd)
         snprintf(it->msg, sizeof it->msg, "at t = %.17g: %s", t, s->msg);
         return rc;
     }
+    if (it->refuse_singular && s->m > 0 && s->S_pinv) {
+        snprintf(it->msg, sizeof it->msg,
+                 "at t = %.17g the constraint system is singular or nearly "
+                 "so (rcond of C M^-1 C^T %.2g): a singular position or "
+                 "redundant constraints, which %s cannot pass (it projects "
+                 "only at output times); use bdf, erk or rk4 "
+                 "(docs/integrators.md)", t, s->rcond_S,
+                 eom_method_name(it->o.method));
+        return EOM_ERR_RANK_DEFICIENT;
+    }
     memmove(yd, y + n, (size_t)n * sizeof(double));
     memcpy(yd + n, s->qdd, (size_t)n * sizeof(double));
     yd[2 * n] = -s->power;
@@ -282,9 +292,19 @@ int eom_integ_new(eom_integ **out, eom_system *s, const eom_opts *o,
     memcpy(it->y, x0, 2 * (size_t)s->n * sizeof(double));
     s->rcond_S_min = 1.0;
     it->svd_base = s->n_svd;
+    it->refuse_singular =
+        s->m > 0 && (o->method == EOM_ADAMS || o->method == EOM_IDA);
     rc = it->ops->init(it);
+    if (rc == EOM_OK && it->refuse_singular) {
+        /* refused at setup where the start already shows it */
+        double *yd = malloc((size_t)it->N * sizeof(double));
+        rc = yd ? eom__integ_rhs(it, t0, it->y, yd) : EOM_ERR_NOMEM;
+        if (!yd)
+            snprintf(it->msg, sizeof it->msg, "out of memory");
+        free(yd);
+    }
     if (rc != EOM_OK) {
-        eom__fail(s, rc, "%s: %s", it->ops->name, it->msg);
+        eom__fail(s, rc, "%s: %s", eom_method_name(o->method), it->msg);
         eom_integ_free(&it);
         return rc;
     }

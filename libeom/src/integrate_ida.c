@@ -306,6 +306,17 @@ static int ida_output(eom_integ *it, ida *d, double tout)
     return EOM_OK;
 }
 
+/* The state of the step just taken, evaluated once: EOM_OK, or the
+ * refusal of a singular constraint system (eom__integ_rhs). */
+static int ida_regular(eom_integ *it, ida *d, double t)
+{
+    const int n = it->n, m = it->s->m;
+    const double *Y = N_VGetArrayPointer(d->yy);
+    memcpy(d->w, Y, 2 * (size_t)n * sizeof(double));
+    d->w[2 * n] = Y[2 * n + m];
+    return eom__integ_rhs(it, t, d->w, d->wd);
+}
+
 static int ida_advance(eom_integ *it, double tout)
 {
     ida *d = it->impl;
@@ -316,9 +327,21 @@ static int ida_advance(eom_integ *it, double tout)
     flag = IDASetMinStep(d->mem, eom__sun_min_step(it->t, tout));
     if (flag >= 0)
         flag = IDASetStopTime(d->mem, tout);
-    if (flag >= 0) {
+    if (flag >= 0 && it->s->m == 0) {
         flag = IDASolve(d->mem, tout, &tret, d->yy, d->yp, IDA_NORMAL);
         d->jacs_stale = 0;
+    } else if (flag >= 0) {
+        /* step by step, each step's state checked for a singular
+         * constraint system, which the index-1 form cannot pass */
+        do {
+            flag = IDASolve(d->mem, tout, &tret, d->yy, d->yp,
+                            IDA_ONE_STEP);
+            d->jacs_stale = 0;
+            if (flag >= 0 && (status = ida_regular(it, d, tret)) != EOM_OK) {
+                IDAGetCurrentTime(d->mem, &tcur);
+                return eom__integ_fail(it, status, "ida: %s", it->msg);
+            }
+        } while (flag == IDA_SUCCESS && tret < tout);
     }
     IDAGetCurrentTime(d->mem, &tcur);
     if (flag >= 0) {

@@ -44,6 +44,9 @@ struct eom_integ {
     double *atolv;  /* [2n] per-component atol (o.atol_vec), or NULL */
     long svd_base;  /* the system's SVD count when this integrator began */
     char erk_table[EOM_TABLE_NAME_LEN]; /* o.erk_table, or "" */
+    int refuse_singular; /* adams, ida with constraints: an evaluation at
+                            a singular or redundant constraint system is
+                            an error (eom__integ_rhs) */
 };
 
 /* The highest order of a variable-order method (adams 12, bdf and ida
@@ -64,7 +67,11 @@ double eom__integ_step_tol(const eom_integ *it, double tol);
 void eom__integ_atol(const eom_integ *it, double *atol, int len);
 
 /* yd = dy/dt at (t, y): (qd, qdd, dW/dt). Counts the evaluation. Returns
- * the status of eom__evaluate (message in it->msg on failure). */
+ * the status of eom__evaluate (message in it->msg on failure), or, with
+ * it->refuse_singular, EOM_ERR_RANK_DEFICIENT where the multipliers
+ * needed the filtered SVD (a singular position or redundant
+ * constraints), with a message naming the time, the condition estimate,
+ * the likely cause and the methods that can go on. */
 int eom__integ_rhs(eom_integ *it, double t, const double *y, double *yd);
 
 /* After an accepted step: project y onto the constraints when the system
