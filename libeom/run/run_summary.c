@@ -63,6 +63,15 @@ void run_summary_print(const run_summary *r, FILE *f, const char *prog,
                 st->svd_solves == 1 ? "" : "s",
                 st->svd_solves ? " (redundant constraints or a near-singular "
                                  "configuration)" : "");
+        if (st->branch_switches > 0)
+            fprintf(f, "  singular positions passed %ld, branch switches %ld "
+                    "(the first at t = %.6g: the motion jumped to another "
+                    "assembly of the mechanism; check it, or use bdf, erk "
+                    "or rk4 with a tighter tolerance)\n", st->singular_passes,
+                    st->branch_switches, st->first_branch_switch);
+        else
+            fprintf(f, "  singular positions passed %ld, branch switches 0\n",
+                    st->singular_passes);
     } else {
         fprintf(f, "  constraint residual: none (no constraints)\n");
     }

@@ -154,6 +154,18 @@ int eom__integ_rhs(eom_integ *it, double t, const double *y, double *yd)
     return EOM_OK;
 }
 
+int eom__integ_branch(eom_integ *it, double t, const double *y)
+{
+    int rc;
+    if (!it->branch)
+        return EOM_OK;
+    rc = eom__branch_check(it->branch, it->s, t, y, &it->st.rhs_evals);
+    if (rc != EOM_OK)
+        snprintf(it->msg, sizeof it->msg, "at t = %.17g: %s", t,
+                 rc == EOM_ERR_NOMEM ? "out of memory" : it->s->msg);
+    return rc;
+}
+
 int eom__integ_project(eom_integ *it, double *y)
 {
     eom_system *s = it->s;
@@ -303,6 +315,12 @@ int eom_integ_new(eom_integ **out, eom_system *s, const eom_opts *o,
             snprintf(it->msg, sizeof it->msg, "out of memory");
         free(yd);
     }
+    if (rc == EOM_OK && s->m > 0) {
+        rc = eom__branch_new(&it->branch, s, t0, it->y);
+        if (rc != EOM_OK)
+            snprintf(it->msg, sizeof it->msg, "%s",
+                     rc == EOM_ERR_NOMEM ? "out of memory" : s->msg);
+    }
     if (rc != EOM_OK) {
         eom__fail(s, rc, "%s: %s", eom_method_name(o->method), it->msg);
         eom_integ_free(&it);
@@ -321,6 +339,7 @@ void eom_integ_free(eom_integ **it)
         (*it)->ops->destroy(*it);
     free((*it)->y);
     free((*it)->atolv);
+    eom__branch_free(&(*it)->branch);
     free(*it);
     *it = NULL;
 }
@@ -366,6 +385,8 @@ int eom_integ_stats(const eom_integ *it, eom_stats *st)
     *st = it->st;
     st->min_rcond_S = it->s->rcond_S_min;
     st->svd_solves = it->s->n_svd - it->svd_base;
+    st->branch_switches = eom__branch_switches(
+        it->branch, &st->first_branch_switch, &st->singular_passes);
     it->ops->stats(it, st);
     return EOM_OK;
 }

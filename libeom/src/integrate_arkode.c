@@ -82,7 +82,7 @@ static int erk_rhs(sunrealtype t, N_Vector y, N_Vector yd, void *user)
 }
 
 /* After each accepted step: project y in place (or only track the
- * residual when projection is off). */
+ * residual when projection is off), and watch the assembly branch. */
 static int erk_postprocess(sunrealtype t, N_Vector y, void *user)
 {
     eom_integ *it = user;
@@ -91,6 +91,8 @@ static int erk_postprocess(sunrealtype t, N_Vector y, void *user)
     int rc;
     it->t = t;
     rc = eom__integ_project(it, N_VGetArrayPointer(y));
+    if (rc == EOM_OK)
+        rc = eom__integ_branch(it, t, N_VGetArrayPointer(y));
     it->t = t_out;
     return erk_cb_result(it, it->impl, rc);
 }

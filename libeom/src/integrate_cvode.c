@@ -301,8 +301,20 @@ static int cv_advance(eom_integ *it, double tout)
     flag = CVodeSetMinStep(c->mem, eom__sun_min_step(it->t, tout));
     if (flag >= 0)
         flag = CVodeSetStopTime(c->mem, tout);
-    if (flag >= 0)
+    if (flag >= 0 && it->s->m == 0) {
         flag = CVode(c->mem, tout, c->y, &tret, CV_NORMAL);
+    } else if (flag >= 0) {
+        /* step by step: each accepted step's state is checked for a
+         * jump to another assembly branch */
+        do {
+            flag = CVode(c->mem, tout, c->y, &tret, CV_ONE_STEP);
+            if (flag >= 0 && (status = eom__integ_branch(
+                                  it, tret, N_VGetArrayPointer(c->y))) !=
+                                 EOM_OK)
+                return eom__integ_fail(it, status, "%s: %s", cv_name(it),
+                                       it->msg);
+        } while (flag == CV_SUCCESS && tret < tout);
+    }
     CVodeGetCurrentTime(c->mem, &tcur);
     if (flag >= 0) {
         /* a success that did not reach tout is not one */

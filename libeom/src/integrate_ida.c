@@ -337,7 +337,9 @@ static int ida_advance(eom_integ *it, double tout)
             flag = IDASolve(d->mem, tout, &tret, d->yy, d->yp,
                             IDA_ONE_STEP);
             d->jacs_stale = 0;
-            if (flag >= 0 && (status = ida_regular(it, d, tret)) != EOM_OK) {
+            if (flag >= 0 && ((status = ida_regular(it, d, tret)) != EOM_OK ||
+                              (status = eom__integ_branch(it, tret, d->w)) !=
+                                  EOM_OK)) {
                 IDAGetCurrentTime(d->mem, &tcur);
                 return eom__integ_fail(it, status, "ida: %s", it->msg);
             }

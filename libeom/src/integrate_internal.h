@@ -44,6 +44,8 @@ struct eom_integ {
     double *atolv;  /* [2n] per-component atol (o.atol_vec), or NULL */
     long svd_base;  /* the system's SVD count when this integrator began */
     char erk_table[EOM_TABLE_NAME_LEN]; /* o.erk_table, or "" */
+    struct eom_branch *branch; /* with constraints: the assembly branch
+                                  (branch.c) */
     int refuse_singular; /* adams, ida with constraints: an evaluation at
                             a singular or redundant constraint system is
                             an error (eom__integ_rhs) */
@@ -73,6 +75,25 @@ void eom__integ_atol(const eom_integ *it, double *atol, int len);
  * constraints), with a message naming the time, the condition estimate,
  * the likely cause and the methods that can go on. */
 int eom__integ_rhs(eom_integ *it, double t, const double *y, double *yd);
+
+/* The assembly-branch monitor (branch.c): made at the start (t, x),
+ * checked after each accepted step (t, x = (q, qd)); a switch is
+ * counted, not an error. The calls evaluate C at q, and inside a singular
+ * passage the right-hand side (counted in *evals): s's results change. */
+typedef struct eom_branch eom_branch;
+int eom__branch_new(eom_branch **out, eom_system *s, double t,
+                    const double *x);
+int eom__branch_check(eom_branch *b, eom_system *s, double t,
+                      const double *x, long *evals);
+/* switches seen, the time of the first, and the singular neighbourhoods
+ * passed (any of b, first, passes may be NULL) */
+long eom__branch_switches(const eom_branch *b, double *first,
+                          long *passes);
+void eom__branch_free(eom_branch **b);
+
+/* After an accepted step at (t, y): the branch check, with a message in
+ * it->msg on failure. A no-op without constraints. */
+int eom__integ_branch(eom_integ *it, double t, const double *y);
 
 /* After an accepted step: project y onto the constraints when the system
  * has them and projection is on, and track the largest residual. */

@@ -95,7 +95,8 @@ static int rk4_advance(eom_integ *it, double tout)
                               : it->t + (tout - it->t) / (double)(nsteps - k);
         if ((rc = rk4_step(it, r, tn - it->t)) != EOM_OK)
             return eom__integ_fail(it, rc, "rk4: %s", it->msg);
-        if ((rc = eom__integ_project(it, r->ynew)) != EOM_OK)
+        if ((rc = eom__integ_project(it, r->ynew)) != EOM_OK ||
+            (rc = eom__integ_branch(it, tn, r->ynew)) != EOM_OK)
             return eom__integ_fail(it, rc, "rk4: %s", it->msg);
         memcpy(it->y, r->ynew, (size_t)it->N * sizeof(double));
         it->t = tn;

@@ -379,6 +379,7 @@ static void case_csv(void)
         /* a regular closed chain: no SVD solve, a sound condition */
         CHECK(number_after(r.err, "smallest rcond ") > 1e-3);
         CHECK_HAS(r.err, ", 0 SVD solves");
+        CHECK_HAS(r.err, "singular positions passed 0, branch switches 0");
         summ = number_after(r.err, "max |phi| = ");
         CHECK(summ >= phi * (1.0 - 5e-3) && summ <= 1e-12);
         free(c.v);

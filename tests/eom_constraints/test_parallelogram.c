@@ -234,6 +234,13 @@ static double angle_diff(double a, double b)
     return remainder(a - b, 2 * PI_);
 }
 
+/* the flat positions (th = 0, pi, 2 pi, ...) the reference passes: th
+ * grows from -pi/2 (the crank turns over and over) */
+static long flat_passes(const double *th_ref)
+{
+    return (long)floor(th_ref[NT - 1] / PI_) + 1;
+}
+
 static void run(int points, eom_method method)
 {
     const int k = points ? 2 : 3;
@@ -275,6 +282,12 @@ static void run(int points, eom_method method)
         CHECK_INT(eom_integ_stats(it, &st), EOM_OK);
         CHECK(st.min_rcond_S < 1e-6);
         CHECK(st.svd_solves > 0);
+        /* on the branch through every pass: the monitor agrees */
+        printf("%-6s %-5s: %ld singular passes seen, %ld branch switches\n",
+               points ? "points" : "angles", name, st.singular_passes,
+               st.branch_switches);
+        CHECK_INT(st.singular_passes, flat_passes(th_ref));
+        CHECK_INT(st.branch_switches, 0);
         if (!points)
             CHECK(st.svd_solves >= st.steps);
     }

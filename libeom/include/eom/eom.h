@@ -387,6 +387,14 @@ typedef struct eom_stats {
     long svd_solves;     /* evaluations whose multipliers came from the
                             filtered SVD (redundant constraints, or near a
                             singular configuration: docs/theory.md) */
+    long singular_passes;  /* singular positions passed (the rank of C
+                              below its rank at the start, after a step) */
+    long branch_switches;  /* of those, passes that came out on another
+                              assembly branch: a velocity jump that the
+                              accelerations do not explain (docs/
+                              integrators.md, "Singular positions"); the
+                              run goes on */
+    double first_branch_switch; /* the time of the first (0 if none) */
 } eom_stats;
 
 typedef struct eom_integ eom_integ;
