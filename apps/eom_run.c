@@ -156,8 +156,12 @@ static void help(void)
         "      --columns LIST    add optional CSV columns: accelerations "
         "(NAME_ddot),\n"
         "                        multipliers (lambdaK), condition (rcond_M, "
-        "rcond_S);\n"
-        "                        comma-separated, after the probes\n"
+        "rcond_S),\n"
+        "                        health (projections, svd_solves, "
+        "singular_passes,\n"
+        "                        branch_switches: counts so far); "
+        "comma-separated,\n"
+        "                        after the probes\n"
         "  -o, --out FILE        write the CSV to FILE (default: standard "
         "output, or\n"
         "                        NAME.csv in the current directory with "
@@ -257,12 +261,14 @@ static int columns_arg(const char *text, unsigned *out)
         unsigned flag;
     } groups[] = {{"accelerations", EOM_RUN_ACCELERATIONS},
                   {"multipliers", EOM_RUN_MULTIPLIERS},
-                  {"condition", EOM_RUN_CONDITION}};
+                  {"condition", EOM_RUN_CONDITION},
+                  {"health", EOM_RUN_HEALTH}};
     const char *p = text;
     unsigned flags = 0;
     if (!*p)
         return cli_usage_error("--columns: empty list (choose from "
-                           "accelerations, multipliers, condition)");
+                           "accelerations, multipliers, condition, "
+                           "health)");
     while (*p) {
         size_t len = strcspn(p, ","), k;
         for (k = 0; k < sizeof groups / sizeof groups[0]; k++)
@@ -272,7 +278,7 @@ static int columns_arg(const char *text, unsigned *out)
         if (k == sizeof groups / sizeof groups[0])
             return cli_usage_error("--columns '%s': unknown group '%.*s' (choose "
                                "from accelerations, multipliers, "
-                               "condition)", text, (int)len, p);
+                               "condition, health)", text, (int)len, p);
         flags |= groups[k].flag;
         p += len;
         if (*p == ',')

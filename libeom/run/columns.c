@@ -55,7 +55,8 @@ int eom_run_columns_new(eom_run_columns **out, const eom_system *s,
     c->m = eom_system_nconstraints(s);
     c->nprobes = eom_system_nprobes(s);
     c->extra = extra & (EOM_RUN_ACCELERATIONS | EOM_RUN_MULTIPLIERS |
-                        EOM_RUN_CONDITION);
+                        EOM_RUN_CONDITION | EOM_RUN_HEALTH);
+    eom_run_columns_set_stats(c, NULL);
     c->count = 1 + 2 * c->n + 4 + 2 * c->m + c->nprobes;
     if (c->extra & EOM_RUN_ACCELERATIONS)
         c->count += c->n;
@@ -63,6 +64,8 @@ int eom_run_columns_new(eom_run_columns **out, const eom_system *s,
         c->count += c->m;
     if (c->extra & EOM_RUN_CONDITION)
         c->count += 2;
+    if (c->extra & EOM_RUN_HEALTH)
+        c->count += 4;
     c->names = calloc((size_t)c->count, sizeof *c->names);
     c->phi = calloc((size_t)c->m + 1, sizeof(double));
     c->phidot = calloc((size_t)c->m + 1, sizeof(double));
@@ -92,6 +95,12 @@ int eom_run_columns_new(eom_run_columns **out, const eom_system *s,
         c->names[k++] = join("rcond_M", "");
         c->names[k++] = join("rcond_S", "");
     }
+    if (c->extra & EOM_RUN_HEALTH) {
+        c->names[k++] = join("projections", "");
+        c->names[k++] = join("svd_solves", "");
+        c->names[k++] = join("singular_passes", "");
+        c->names[k++] = join("branch_switches", "");
+    }
     for (i = 0; i < c->count; i++)
         if (!c->names[i])
             goto nomem;
@@ -119,6 +128,16 @@ static int row_fail(eom_run_columns *c, const eom_system *s, int status, int rc)
         return status;
     snprintf(c->msg, sizeof c->msg, "%s", eom_system_errmsg(s));
     return rc;
+}
+
+void eom_run_columns_set_stats(eom_run_columns *c, const eom_stats *st)
+{
+    if (!c)
+        return;
+    c->health[0] = st ? (double)st->projections : NAN;
+    c->health[1] = st ? (double)st->svd_solves : NAN;
+    c->health[2] = st ? (double)st->singular_passes : NAN;
+    c->health[3] = st ? (double)st->branch_switches : NAN;
 }
 
 int eom_run_columns_fill(eom_run_columns *c, eom_system *s, double t,
@@ -192,6 +211,9 @@ int eom_run_columns_fill(eom_run_columns *c, eom_system *s, double t,
             status = row_fail(c, s, status, rc);
             opt[0] = opt[1] = NAN;
         }
+        opt += 2;
     }
+    if (c->extra & EOM_RUN_HEALTH)
+        memcpy(opt, c->health, sizeof c->health);
     return status;
 }

@@ -43,6 +43,7 @@ void eom_run_grid(double t_end, double sample, long long *K, int *exact)
 typedef struct run_state {
     const eom_run_opts *p;
     eom_system *s;
+    eom_integ *it; /* NULL before the integrator starts */
     eom_csv_writer *w;
     eom_run_columns *cols;
     double *row;
@@ -56,7 +57,15 @@ typedef struct run_state {
 static int emit(run_state *r, double t, const double *x, double W)
 {
     eom_run_row_info info;
-    int rc = eom_run_columns_fill(r->cols, r->s, t, x, W, r->row, &info);
+    eom_stats st;
+    int rc;
+    if (r->it && eom_integ_stats(r->it, &st) == EOM_OK) {
+        eom_run_columns_set_stats(r->cols, &st);
+    } else {
+        memset(&st, 0, sizeof st); /* the start row: nothing counted yet */
+        eom_run_columns_set_stats(r->cols, &st);
+    }
+    rc = eom_run_columns_fill(r->cols, r->s, t, x, W, r->row, &info);
     /* the state is data even when derived quantities failed: keep it */
     if (eom_csv_writer_row(r->w, r->row, r->cols->count, r->err,
                            sizeof r->err) != 0) {
@@ -149,6 +158,7 @@ int eom_run(eom_system *s, const double *x0, const eom_run_opts *p,
                     eom_system_errmsg(s));
             goto done;
         }
+        r.it = it;
     }
     for (k = 1; k <= K; k++) {
         const double tout = (double)k * p->sample;

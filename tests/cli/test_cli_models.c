@@ -235,11 +235,94 @@ static void case_columns(void)
     result_free(&r);
 }
 
+/* --columns health on a parallelogram in point coordinates, whose crank
+ * turns over and over (about one flat position every half second, where C
+ * loses rank): the counts never decrease, start at 0, end at the
+ * summary's figures; every flat position the CSV shows (y1 changes sign)
+ * is counted as a singular pass, none as a branch switch, and the run
+ * stays on the parallelogram (P2 = P1 + (d, 0)). */
+static void case_health(void)
+{
+    char file[300], out[300], msg[256], *text;
+    const char *args[] = {file, "--columns", "health", "--t-end", "5",
+                          "--sample", "0.005", "--integrator", "bdf",
+                          "--out", out, NULL};
+    FILE *f;
+    result r;
+    csv c;
+    long flats = 0;
+    int i, j;
+    scratch(file, sizeof file, "parallelogram.eom");
+    scratch(out, sizeof out, "parallelogram.csv");
+    f = fopen(file, "w");
+    CHECK(f != NULL);
+    if (!f)
+        return;
+    fputs("param m = 1 [kg]\nparam a = 1 [m]\nparam d = 2 [m]\n"
+          "param g = 9.81 [m/s^2]\n"
+          "coord x1 = 0 [m] rate 8\ncoord y1 = -1 [m]\n"
+          "coord x2 = 2 [m] rate 8\ncoord y2 = -1 [m]\n"
+          "T = 1/2*m*(x1_dot^2 + y1_dot^2 + x2_dot^2 + y2_dot^2)\n"
+          "V = m*g*(y1 + y2)\n"
+          "constraint crank1 = x1^2 + y1^2 - a^2\n"
+          "constraint crank2 = (x2 - d)^2 + y2^2 - a^2\n"
+          "constraint coupler = (x2 - x1)^2 + (y2 - y1)^2 - d^2\n", f);
+    fclose(f);
+    run(&r, args);
+    CHECK_INT(r.status, 0);
+    text = read_file(out, NULL);
+    if (!text || csv_parse(text, &c, msg, sizeof msg) != 0) {
+        CHECK_FAIL_("%s", text ? msg : "no CSV");
+        free(text);
+        result_free(&r);
+        return;
+    }
+    CHECK_INT(c.nrows, 1001);
+    for (j = 0; j < 4; j++) {
+        static const char *const names[] = {"projections", "svd_solves",
+                                            "singular_passes",
+                                            "branch_switches"};
+        const int col = csv_col(&c, names[j]);
+        CHECK(col >= 0);
+        if (col < 0)
+            continue;
+        CHECK(at(&c, 0, col) == 0.0);
+        for (i = 1; i < c.nrows; i++)
+            CHECK(at(&c, i, col) >= at(&c, i - 1, col));
+    }
+    for (i = 1; i < c.nrows; i++) {
+        const double y0 = at(&c, i - 1, csv_col(&c, "y1"));
+        const double y1 = at(&c, i, csv_col(&c, "y1"));
+        flats += (y0 > 0.0) != (y1 > 0.0);
+        CHECK(hypot(at(&c, i, csv_col(&c, "x2")) -
+                        at(&c, i, csv_col(&c, "x1")) - 2.0,
+                    at(&c, i, csv_col(&c, "y2")) -
+                        at(&c, i, csv_col(&c, "y1"))) < 1e-6);
+    }
+    printf("flat positions in the CSV %ld, singular passes counted %g, "
+           "branch switches %g\n", flats,
+           at(&c, c.nrows - 1, csv_col(&c, "singular_passes")),
+           at(&c, c.nrows - 1, csv_col(&c, "branch_switches")));
+    CHECK(flats >= 8);
+    CHECK(at(&c, c.nrows - 1, csv_col(&c, "singular_passes")) ==
+          (double)flats);
+    CHECK(at(&c, c.nrows - 1, csv_col(&c, "branch_switches")) == 0.0);
+    CHECK(number_after(r.err, "projections ") ==
+          at(&c, c.nrows - 1, csv_col(&c, "projections")));
+    CHECK_HAS(r.err, "branch switches 0");
+    CHECK(number_after(r.err, "singular positions passed ") ==
+          (double)flats);
+    free(c.v);
+    free(text);
+    result_free(&r);
+}
+
 static const struct {
     const char *name;
     void (*fn)(void);
 } cases[] = {
     {"model_columns", case_columns},
+    {"model_health", case_health},
     {"model_list", case_list},   {"model_describe", case_describe},
     {"model_csv", case_csv},     {"model_error", case_error},
     {"model_modes", case_modes}, {"model_plots", case_plots},

@@ -96,21 +96,28 @@ enum {
     EOM_RUN_MULTIPLIERS = 2,   /* lambda1 .. lambdaM: the constraint
                                   forces are C^T lambda (none without
                                   constraints) */
-    EOM_RUN_CONDITION = 4      /* rcond_M, rcond_S: reciprocal condition
+    EOM_RUN_CONDITION = 4,     /* rcond_M, rcond_S: reciprocal condition
                                   estimates of M and of C M^-1 C^T at the
                                   row's state (eom_condition; rcond_S is 1
                                   without constraints) */
+    EOM_RUN_HEALTH = 8         /* projections, svd_solves,
+                                  singular_passes, branch_switches: the
+                                  integrator's counts up to the row
+                                  (eom_stats), given by
+                                  eom_run_columns_set_stats; NaN until
+                                  then */
 };
 
 typedef struct eom_run_columns {
     int n, m, nprobes;    /* coordinates, constraints, probes */
     unsigned extra;       /* the optional groups (EOM_RUN_* flags) */
     int count;            /* columns: 1 + 2n + 4 + 2m + nprobes, plus n,
-                             m and 2 for the optional groups */
+                             m, 2 and 4 for the optional groups */
     char **names;         /* [count] column names (owned) */
     double *phi, *phidot; /* [m] scratch */
     double *xd;           /* [2n] scratch */
     char msg[512];        /* why the last eom_run_columns_fill failed */
+    double health[4];     /* the EOM_RUN_HEALTH values (NaN: not set) */
 } eom_run_columns;
 
 /* What a row holds besides its values. */
@@ -126,6 +133,10 @@ typedef struct eom_run_row_info {
 EOM_API int eom_run_columns_new(eom_run_columns **out, const eom_system *s,
                                 unsigned extra, char *err, size_t errlen);
 EOM_API void eom_run_columns_free(eom_run_columns **c);
+/* The integrator's counts for the EOM_RUN_HEALTH columns of the rows
+ * filled next (st NULL: NaN). eom_run sets them at every row. */
+EOM_API void eom_run_columns_set_stats(eom_run_columns *c,
+                                       const eom_stats *st);
 /* Fill row (c->count values) for time t, state x (2n values) and work W;
  * *info receives the energies and largest residuals. Returns EOM_OK, or
  * the first failing libeom status with its message in c->msg and the
