@@ -74,9 +74,25 @@ int eom__sun_failed(eom_integ *it, const eom_sun_report *r,
 {
     /* a failed callback is the cause; otherwise the solver's own error */
     const int status = r->cb_status != EOM_OK ? r->cb_status : EOM_ERR_SOLVER;
+    const char *why = r->cb_status != EOM_OK ? r->cb_msg : r->sun_msg;
+    char guess[EOM_MSG_LEN];
+    if (!why[0]) {
+        /* the solver gave no reason: say what the run's figures suggest */
+        if (it->s->m > 0 && it->s->rcond_S_min < 1e-3)
+            snprintf(guess, sizeof guess, "the solver gave no reason; the "
+                     "constraint system's smallest rcond so far is %.2g, so "
+                     "a singular position or redundant constraints are the "
+                     "likely cause (docs/integrators.md, \"Singular "
+                     "positions\")", it->s->rcond_S_min);
+        else
+            snprintf(guess, sizeof guess, "the solver gave no reason; a "
+                     "point its steps cannot pass (a discontinuity, a "
+                     "singularity or a domain edge of the model) is the "
+                     "likely cause (docs/troubleshooting.md)");
+        why = guess;
+    }
     eom__integ_fail(it, status, "%s: %s at t = %.17g: %s", method,
-                    flag_name ? flag_name : "unknown flag", t,
-                    r->cb_status != EOM_OK ? r->cb_msg : r->sun_msg);
+                    flag_name ? flag_name : "unknown flag", t, why);
     free(flag_name);
     return status;
 }
