@@ -423,6 +423,16 @@ tp_val eom_time(eom_ctx *c)
     return tp_indep(c->r, 2 * c->n);
 }
 
+tp_val eom_param_at(eom_ctx *c, int k)
+{
+    if (!c)
+        return ctx_bad(c, "eom_param_at: NULL context");
+    if (k < 0 || k >= c->m->n_params)
+        return ctx_bad(c, "eom_param_at: no parameter of index %d (the "
+                       "model has %d)", k, c->m->n_params);
+    return tp_param(c->r, c->m->params[k].name, c->m->params[k].v0);
+}
+
 tp_val eom_param(eom_ctx *c, const char *name)
 {
     int k;

@@ -130,25 +130,45 @@ static tp_val make_val(tp_rec *r, uint32_t id)
     return v;
 }
 
-tp_val tp__rec_op(tp_rec *r, int op, tp_val a, tp_val b, double c)
+/* An op's public name, tp_ + its table name in lower case: for messages
+ * only, so it is built only when a check fails. */
+static const char *op_fn_name(int op, char *fn, size_t len)
 {
-    /* the public name of every op is tp_ + its table name in lower case */
-    char fn[24] = "tp_";
     const char *name = tp__opinfo[op].name;
-    int kind = tp__opinfo[op].kind;
     size_t k;
-    for (k = 0; name[k] && k + 4 < sizeof fn; k++)
+    fn[0] = 't';
+    fn[1] = 'p';
+    fn[2] = '_';
+    for (k = 0; name[k] && k + 4 < len; k++)
         fn[3 + k] = (char)(name[k] >= 'A' && name[k] <= 'Z'
                                ? name[k] - 'A' + 'a' : name[k]);
     fn[3 + k] = '\0';
-    if (!r || !writable(r, fn) || !check_val(r, a, fn, 1))
+    return fn;
+}
+
+/* Does a hold a value of this run? (the test of check_val, silently) */
+static bool val_ok(const tp_rec *r, tp_val a)
+{
+    return a.tag != 0 && a.tag == r->tag && a.id < r->n_ids;
+}
+
+tp_val tp__rec_op(tp_rec *r, int op, tp_val a, tp_val b, double c)
+{
+    const int binary = tp__opinfo[op].kind == TP_KIND_BINARY;
+    char fn[24];
+    if (!r)
         return invalid_val;
-    if (kind == TP_KIND_BINARY) {
-        if (!check_val(r, b, fn, 2))
+    /* every op of every run passes here: the common case checks without
+     * formatting the op's name, which only a message needs */
+    if (r->status < 0 || r->finished || (is_evaluator(r) && !r->running) ||
+        !val_ok(r, a) || (binary && !val_ok(r, b))) {
+        op_fn_name(op, fn, sizeof fn);
+        if (!writable(r, fn) || !check_val(r, a, fn, 1) ||
+            (binary && !check_val(r, b, fn, 2)))
             return invalid_val;
-    } else {
-        b.id = 0;
     }
+    if (!binary)
+        b.id = 0;
     return make_val(r, r->be->apply(r, op, a.id, b.id, c));
 }
 

@@ -55,7 +55,8 @@ static uint32_t new_tuple(tp_tuple *U, bool cst)
         U->pool = q;
         U->cap = ncap;
     }
-    if (tp__grow(&U->base.al, (void **)&U->cst, 1, &U->cap_cst,
+    if (U->count + 1 > U->cap_cst &&
+        tp__grow(&U->base.al, (void **)&U->cst, 1, &U->cap_cst,
                  U->count + 1))
         goto nomem;
     U->cst[U->count] = cst;
@@ -105,39 +106,55 @@ static uint32_t tu_constant(tp_rec *base, double c)
 }
 
 /* w = fu u + ft t + second-order terms, over gradient and Hessian; an
- * operand may be NULL (constant). */
-static void propagate(const tp_tuple *U, double *w, const double *u,
-                      const double *t, const tp_partials *d)
+ * operand may be NULL (constant). One pass over the packed Hessian, with
+ * unit stride and no temporaries: per row i the second-order terms fold
+ * into two scalars, a = fuu gu_i + fut gt_i and b = ftt gt_i + fut gu_i,
+ * so that H_w(i, j) = fu H_u + ft H_t + a gu_j + b gt_j. */
+static void propagate(const tp_tuple *U, double *restrict w,
+                      const double *u, const double *t, const tp_partials *d)
 {
     const size_t n = U->n;
-    const double *gu = u ? u + 1 : NULL, *gt = t ? t + 1 : NULL;
-    const double *Hu = u ? u + 1 + n : NULL, *Ht = t ? t + 1 + n : NULL;
-    double *gw = w + 1, *Hw = w + 1 + n;
-    const size_t nh = n * (n + 1) / 2;
+    double *restrict gw = w + 1, *restrict Hw = w + 1 + n;
     size_t i, j, k;
 
-    for (i = 0; i < n; i++)
-        gw[i] = (gu ? d->fu * gu[i] : 0.0) + (gt ? d->ft * gt[i] : 0.0);
-    for (k = 0; k < nh; k++)
-        Hw[k] = (Hu ? d->fu * Hu[k] : 0.0) + (Ht ? d->ft * Ht[k] : 0.0);
-    if (gu && d->fuu != 0.0)
-        for (i = 0, k = 0; i < n; i++) {
-            const double s = d->fuu * gu[i];
-            for (j = 0; j <= i; j++, k++)
-                Hw[k] += s * gu[j];
+    if (u && t) {
+        const double *gu = u + 1, *gt = t + 1, *Hu = u + 1 + n,
+                     *Ht = t + 1 + n;
+        const double fu = d->fu, ft = d->ft;
+        for (i = 0; i < n; i++)
+            gw[i] = fu * gu[i] + ft * gt[i];
+        if (d->fuu == 0.0 && d->ftt == 0.0 && d->fut == 0.0) {
+            const size_t nh = n * (n + 1) / 2;
+            for (k = 0; k < nh; k++)
+                Hw[k] = fu * Hu[k] + ft * Ht[k];
+            return;
         }
-    if (gt && d->ftt != 0.0)
         for (i = 0, k = 0; i < n; i++) {
-            const double s = d->ftt * gt[i];
+            const double a = d->fuu * gu[i] + d->fut * gt[i];
+            const double b = d->ftt * gt[i] + d->fut * gu[i];
             for (j = 0; j <= i; j++, k++)
-                Hw[k] += s * gt[j];
+                Hw[k] = fu * Hu[k] + ft * Ht[k] + a * gu[j] + b * gt[j];
         }
-    if (gu && gt && d->fut != 0.0)
+        return;
+    }
+    {
+        /* one operand carries derivatives: v, with f1 and f11 its own */
+        const double *v = u ? u : t, *gv = v + 1, *Hv = v + 1 + n;
+        const double f1 = u ? d->fu : d->ft, f11 = u ? d->fuu : d->ftt;
+        for (i = 0; i < n; i++)
+            gw[i] = f1 * gv[i];
+        if (f11 == 0.0) {
+            const size_t nh = n * (n + 1) / 2;
+            for (k = 0; k < nh; k++)
+                Hw[k] = f1 * Hv[k];
+            return;
+        }
         for (i = 0, k = 0; i < n; i++) {
-            const double su = d->fut * gu[i], st = d->fut * gt[i];
+            const double a = f11 * gv[i];
             for (j = 0; j <= i; j++, k++)
-                Hw[k] += su * gt[j] + st * gu[j];
+                Hw[k] = f1 * Hv[k] + a * gv[j];
         }
+    }
 }
 
 static uint32_t tu_apply(tp_rec *base, int op, uint32_t u, uint32_t t,

@@ -155,6 +155,11 @@ EOM_API tp_val eom_q(eom_ctx *c, int i);
 EOM_API tp_val eom_qd(eom_ctx *c, int i);
 EOM_API tp_val eom_time(eom_ctx *c);
 EOM_API tp_val eom_param(eom_ctx *c, const char *name);
+/* The parameter of index k, as eom_model_add_param returned it: the same
+ * value as eom_param by name, without the name's lookup, for callbacks
+ * that run at every evaluation (the embedded-tuple route of
+ * eom_model_run_lagrangian runs them all each time). */
+EOM_API tp_val eom_param_at(eom_ctx *c, int k);
 
 /* Run the model's Lagrangian (T - V, or L) once on any libtape context r
  * made for 2n independents, at x = (q, qd) (x may be NULL for the

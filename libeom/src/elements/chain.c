@@ -46,6 +46,9 @@ typedef struct chain {
     unsigned char *damped, *sprung; /* [N + 1] */
     char prefix[32];
     chain_probe *probes; /* [3 N] */
+    /* parameter indices (eom_param_at), resolved once when added */
+    int *p_m, *p_L, *p_EI; /* [N] */
+    int p_g, p_c, p_k, p_D, p_zeta, p_ray_a, p_ray_b;
 } chain;
 
 static void chain_free(void *p)
@@ -59,18 +62,31 @@ static void chain_free(void *p)
     free(ch->damped);
     free(ch->sprung);
     free(ch->probes);
+    free(ch->p_m);
+    free(ch->p_L);
+    free(ch->p_EI);
     free(ch);
 }
 
-/* Parameter base (+ link number j + 1 when j >= 0), with the prefix. */
+/* Parameter base (+ link number j + 1 when j >= 0), with the prefix, by
+ * the index resolved when the chain was added: callbacks run at every
+ * evaluation on the tuple route, where formatting and looking up names
+ * cost a third of an evaluation of a short chain. */
 static tp_val par(eom_ctx *c, const chain *ch, const char *base, int j)
 {
-    char name[64];
-    if (j >= 0)
-        snprintf(name, sizeof name, "%s%s%d", ch->prefix, base, j + 1);
-    else
-        snprintf(name, sizeof name, "%s%s", ch->prefix, base);
-    return eom_param(c, name);
+    int k;
+    switch (base[0]) {
+    case 'm': k = ch->p_m[j]; break;
+    case 'L': k = ch->p_L[j]; break;
+    case 'E': k = ch->p_EI[j]; break;
+    case 'g': k = ch->p_g; break;
+    case 'c': k = ch->p_c; break;
+    case 'k': k = ch->p_k; break;
+    case 'D': k = ch->p_D; break;
+    case 'z': k = ch->p_zeta; break;
+    default: k = base[4] == 'a' ? ch->p_ray_a : ch->p_ray_b; break;
+    }
+    return eom_param_at(c, k);
 }
 
 /* Sums over the modes of link j: sum w_i x_i with w_i = weight(i). */
@@ -307,7 +323,8 @@ static int fail(eom_model *m, int status)
 }
 
 static int add_param(eom_model *m, const chain *ch, const char *base, int j,
-                     const char *unit, double dflt, const char *what)
+                     const char *unit, double dflt, const char *what,
+                     int *index)
 {
     char name[64], desc[96];
     if (j >= 0) {
@@ -317,7 +334,7 @@ static int add_param(eom_model *m, const chain *ch, const char *base, int j,
         snprintf(name, sizeof name, "%s%s", ch->prefix, base);
         snprintf(desc, sizeof desc, "%s", what);
     }
-    return eom_model_add_param(m, name, unit, dflt, desc);
+    return *index = eom_model_add_param(m, name, unit, dflt, desc);
 }
 
 static double pick(const double *arr, int j, double shared)
@@ -349,11 +366,19 @@ int eom_chain_add(eom_model *m, const eom_chain_spec *sp)
     ch->damped = calloc((size_t)N + 1, 1);
     ch->sprung = calloc((size_t)N + 1, 1);
     ch->probes = calloc(3 * (size_t)N, sizeof *ch->probes);
+    ch->p_m = malloc((size_t)N * sizeof(int));
+    ch->p_L = malloc((size_t)N * sizeof(int));
+    ch->p_EI = malloc((size_t)N * sizeof(int));
     if (!ch->K || !ch->th || !ch->q || !ch->damped || !ch->sprung ||
-        !ch->probes) {
+        !ch->probes || !ch->p_m || !ch->p_L || !ch->p_EI) {
         chain_free(ch);
         return EOM_ERR_NOMEM;
     }
+    /* absent parameters: an index no parameter has */
+    for (j = 0; j < N; j++)
+        ch->p_m[j] = ch->p_L[j] = ch->p_EI[j] = -1;
+    ch->p_g = ch->p_c = ch->p_k = ch->p_D = -1;
+    ch->p_zeta = ch->p_ray_a = ch->p_ray_b = -1;
     /* the model owns the description from here on */
     if ((rc = eom_model_attach(m, ch, chain_free)) != EOM_OK)
         return rc;
@@ -398,36 +423,38 @@ int eom_chain_add(eom_model *m, const eom_chain_spec *sp)
     /* parameters */
     for (j = 0; j < N; j++) {
         if ((rc = add_param(m, ch, "m", j, "kg", pick(sp->m_link, j, sp->m),
-                            "mass")) < 0 ||
+                            "mass", &ch->p_m[j])) < 0 ||
             (rc = add_param(m, ch, "L", j, "m", pick(sp->L_link, j, sp->L),
-                            "length")) < 0)
+                            "length", &ch->p_L[j])) < 0)
             return fail(m, rc);
         if (ch->K[j] > 0 &&
             (rc = add_param(m, ch, "EI", j, "N m^2",
                             pick(sp->EI_link, j, sp->EI),
-                            "bending stiffness")) < 0)
+                            "bending stiffness", &ch->p_EI[j])) < 0)
             return fail(m, rc);
     }
     if ((rc = add_param(m, ch, "g", -1, "m/s^2", sp->g,
-                        "gravity along -y")) < 0)
+                        "gravity along -y", &ch->p_g)) < 0)
         return fail(m, rc);
     if (any_damped && (rc = add_param(m, ch, "c", -1, "N m s/rad", sp->c,
-                                      "joint damping")) < 0)
+                                      "joint damping", &ch->p_c)) < 0)
         return fail(m, rc);
     if (any_sprung && (rc = add_param(m, ch, "k", -1, "N m/rad", sp->k,
-                                      "joint stiffness")) < 0)
+                                      "joint stiffness", &ch->p_k)) < 0)
         return fail(m, rc);
     if (ch->closed && (rc = add_param(m, ch, "D", -1, "m", sp->D,
-                                      "x of the tip pin")) < 0)
+                                      "x of the tip pin", &ch->p_D)) < 0)
         return fail(m, rc);
     if (ch->structural &&
         ((rc = add_param(m, ch, "zeta", -1, NULL, sp->zeta,
-                         "modal damping ratio of every mode")) < 0 ||
+                         "modal damping ratio of every mode", &ch->p_zeta)) < 0 ||
          (rc = add_param(m, ch, "ray_a", -1, "1/s", sp->ray_a,
-                         "Rayleigh damping of the modes: a of a M + b K")) <
+                         "Rayleigh damping of the modes: a of a M + b K",
+                         &ch->p_ray_a)) <
              0 ||
          (rc = add_param(m, ch, "ray_b", -1, "s", sp->ray_b,
-                         "Rayleigh damping of the modes: b of a M + b K")) <
+                         "Rayleigh damping of the modes: b of a M + b K",
+                         &ch->p_ray_b)) <
              0))
         return fail(m, rc);
 
