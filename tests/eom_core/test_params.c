@@ -405,9 +405,60 @@ static void composed(rng *g)
     eom_system_free(&b);
 }
 
+/* eom_param_at: a parameter by the index eom_model_add_param returned,
+ * the same value as by name; an index out of range fails the recording
+ * with a message naming it */
+static int V_at(eom_ctx *c, void *user, tp_val *out)
+{
+    const int *k = user;
+    tp_rec *R = eom_rec(c);
+    *out = tp_mul(R, tp_mulc(R, eom_param_at(c, *k), 0.5),
+                  tp_sqr(R, eom_q(c, 0)));
+    return 0;
+}
+
+static int T_at(eom_ctx *c, void *user, tp_val *out)
+{
+    (void)user;
+    *out = tp_mulc(eom_rec(c), tp_sqr(eom_rec(c), eom_qd(c, 0)), 0.5);
+    return 0;
+}
+
+static void by_index(void)
+{
+    eom_model *md = NULL;
+    eom_system *s = NULL;
+    char msg[256];
+    int k, bad = 7;
+    double x[2] = {0.3, 0.0}, xd[2];
+    CHECK_INT(eom_model_new(&md), EOM_OK);
+    eom_model_add_coord(md, "x", "m", 0.3, 0.0);
+    eom_model_add_param(md, "unused", "1", 1.0, NULL);
+    k = eom_model_add_param(md, "k", "N/m", 40.0, NULL);
+    CHECK_INT(k, 1);
+    eom_model_set_kinetic(md, T_at, NULL);
+    eom_model_set_potential(md, V_at, &k);
+    CHECK_INT(eom_system_new(&s, md, msg, sizeof msg), EOM_OK);
+    if (s) {
+        /* x'' = -k x, with k changed by name afterwards */
+        CHECK_INT(eom_rhs(s, 0.0, x, xd), EOM_OK);
+        CHECK_NEAR(xd[1], -40.0 * 0.3, 1e-14);
+        CHECK_INT(eom_set_param(s, eom_param_index(s, "k"), 10.0), EOM_OK);
+        CHECK_INT(eom_rhs(s, 0.0, x, xd), EOM_OK);
+        CHECK_NEAR(xd[1], -10.0 * 0.3, 1e-14);
+        eom_system_free(&s);
+    }
+    eom_model_set_potential(md, V_at, &bad);
+    CHECK(eom_system_new(&s, md, msg, sizeof msg) != EOM_OK);
+    CHECK(s == NULL);
+    CHECK(strstr(msg, "no parameter of index 7") != NULL);
+    eom_model_free(&md);
+}
+
 int main(void)
 {
     rng g = rng_seed(2718);
+    by_index();
     probes(&g);
     set_param_is_rebuild(&g);
     rejected_values();
