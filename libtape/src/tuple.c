@@ -167,6 +167,20 @@ static uint32_t tu_apply(tp_rec *base, int op, uint32_t u, uint32_t t,
     tp_partials d;
     uint32_t id;
 
+    /* identities: the operand's tuple is the result (tuples never change
+     * once made), which spares a pass over it; sums that start from a
+     * constant 0 are how models accumulate terms */
+    if (binary) {
+        if ((op == TP_OP_ADD && cu && uv == 0.0) ||
+            (op == TP_OP_MUL && cu && uv == 1.0))
+            return t;
+        if (((op == TP_OP_ADD || op == TP_OP_SUB) && ct && tv == 0.0) ||
+            (op == TP_OP_MUL && ct && tv == 1.0))
+            return u;
+    } else if ((op == TP_OP_ADDC && c == 0.0) ||
+               (op == TP_OP_MULC && c == 1.0)) {
+        return u;
+    }
     w = tp__op_value_aux(op, uv, tv, c, &aux);
     id = new_tuple(U, cu && ct);
     if (id == TP_NO_SLOT)
