@@ -589,7 +589,8 @@ done:
     tp_tape_free(&T);
 }
 
-/* tp_lagrange needs (q, qd) pairs: an odd number of independents. */
+/* tp_lagrange reads an odd number of independents as (q, qd, t); the
+ * tuple engine's tp_tuple_lagrange knows only (q, qd) pairs. */
 static int odd(tp_rec *r, void *user)
 {
     (void)user;
@@ -605,8 +606,11 @@ static void odd_lagrange(void)
     double x[3] = {1, 2, 3}, L, v[9];
     CHECK_INT(tp_ws_new(&ws, T, 2, NULL), TP_OK);
     CHECK_INT(tp_tuple_new(&tu, 3, NULL), TP_OK);
-    if (ws)
-        CHECK_INT(tp_lagrange(ws, x, 0, &L, v, v, v), TP_ERR_SIZE);
+    if (ws) {
+        /* L = q x t^2 with n = 1: dL/dq = t^2 = 9, M = 0, h = 0 */
+        CHECK_INT(tp_lagrange(ws, x, 0, &L, v, v + 1, v + 2), TP_OK);
+        CHECK(L == 9.0 && v[0] == 9.0 && v[1] == 0.0 && v[2] == 0.0);
+    }
     if (tu) {
         CHECK_INT(tp_rec_run(tu, x, odd, NULL), TP_OK);
         CHECK_INT(tp_tuple_lagrange(tu, 0, &L, v, v, v), TP_ERR_SIZE);

@@ -294,21 +294,29 @@ int tp_taylor2(tp_ws *ws, const double *x, const double *d, double *y,
 int tp_lagrange(tp_ws *ws, const double *x, int out, double *L, double *dLdq,
                 double *M, double *h)
 {
+    return tp_lagrange_t(ws, x, out, L, dLdq, NULL, M, h);
+}
+
+/* With 2n + 1 independents the last is the time t: it is never seeded (the
+ * n directions stay on qd), but the reverse sweep reaches it anyway, so
+ * row 2n of the Hessian columns holds d2L/(dt dqd_c) and entry 2n of the
+ * gradient dL/dt at no extra cost. */
+int tp_lagrange_t(tp_ws *ws, const double *x, int out, double *L,
+                  double *dLdq, double *dLdt, double *M, double *h)
+{
     int st = begin(ws, x, "tp_lagrange");
     const tp_tape *T;
     const double *w, *qd;
     uint32_t end;
     int n, c0, k, i;
+    bool timed;
     if (st)
         return st;
     T = ws->t;
     if ((st = check_out(ws, out, "tp_lagrange")) != TP_OK)
         return st;
-    if (T->n_indep % 2 != 0)
-        return fail(ws, TP_ERR_SIZE,
-                    "tp_lagrange: %u independents are not (q, qd) pairs",
-                    (unsigned)T->n_indep);
     n = (int)T->n_indep / 2;
+    timed = T->n_indep % 2 != 0;
     qd = x + n;
     w = unit_weights(ws, out);
     end = end_of(T, w);
@@ -321,7 +329,8 @@ int tp_lagrange(tp_ws *ws, const double *x, int out, double *L, double *dLdq,
     for (c0 = 0; c0 < n && (M || h); c0 += ws->max_dirs) {
         const int pc = n - c0 < ws->max_dirs ? n - c0 : ws->max_dirs;
         const unsigned mask = tp__seed_mask(T, pc, NULL, 0, n + c0);
-        const double *H = ws->hs; /* rows: d/dq (n), then d/dqd (n) */
+        /* rows: d/dq (n), then d/dqd (n), then d/dt when timed */
+        const double *H = ws->hs;
         tp__fwd1(ws, x, pc, NULL, 0, n + c0, mask, end);
         tp__rev2(ws, w, pc, mask, end, c0 == 0 ? ws->g : NULL, ws->hs,
                  (size_t)pc);
@@ -331,10 +340,12 @@ int tp_lagrange(tp_ws *ws, const double *x, int out, double *L, double *dLdq,
                     M[(size_t)i * (size_t)n + (size_t)(c0 + k)] =
                         H[(size_t)(n + i) * (size_t)pc + (size_t)k];
             if (h) {
-                /* h_c = sum_j d2L/(dq_j dqd_c) qd_j */
+                /* h_c = sum_j d2L/(dq_j dqd_c) qd_j (+ d2L/(dt dqd_c)) */
                 double s = 0.0;
                 for (i = 0; i < n; i++)
                     s += H[(size_t)i * (size_t)pc + (size_t)k] * qd[i];
+                if (timed)
+                    s += H[(size_t)(2 * n) * (size_t)pc + (size_t)k];
                 h[c0 + k] = s;
             }
         }
@@ -343,8 +354,11 @@ int tp_lagrange(tp_ws *ws, const double *x, int out, double *L, double *dLdq,
         *L = ws->v[T->out_slot[out]];
     if (dLdq)
         memcpy(dLdq, ws->g, (size_t)n * sizeof(double));
+    if (dLdt)
+        *dLdt = timed ? ws->g[2 * n] : 0.0;
     check(&st, L, 1);
     check(&st, dLdq, (size_t)n);
+    check(&st, dLdt, 1);
     check(&st, M, (size_t)n * (size_t)n);
     check(&st, h, (size_t)n);
     return st;

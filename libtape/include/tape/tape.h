@@ -325,9 +325,20 @@ TP_API int tp_taylor2(tp_ws *ws, const double *x, const double *d, double *y,
  * x = (q, qd) and whose output out is L: the value *L, dLdq[n], the mass
  * matrix M = d2L/dqd2 (n x n) and h = (d2L/dqd dq) qd [n]. One forward
  * sweep and one reverse sweep carrying n directions seeded on qd (chunked
- * if max_dirs < n). Any of L, dLdq, M, h may be NULL. */
+ * if max_dirs < n). Any of L, dLdq, M, h may be NULL. A tape of 2n + 1
+ * independents is read as in tp_lagrange_t. */
 TP_API int tp_lagrange(tp_ws *ws, const double *x, int out, double *L,
                        double *dLdq, double *M, double *h);
+
+/* The same for a Lagrangian that depends on the time explicitly: a tape
+ * of 2n + 1 independents x = (q, qd, t), the time last. Then
+ * h = (d2L/dqd dq) qd + d2L/dqd dt, the part of d/dt (dL/dqd) that does
+ * not involve the accelerations, and *dLdt = dL/dt at fixed (q, qd). The
+ * same two sweeps as tp_lagrange: the time is not a direction. For a
+ * tape of 2n independents this is tp_lagrange with *dLdt = 0. dLdt may
+ * be NULL. */
+TP_API int tp_lagrange_t(tp_ws *ws, const double *x, int out, double *L,
+                         double *dLdq, double *dLdt, double *M, double *h);
 
 /* The same blocks from an evaluated tuple context (for comparison). */
 TP_API int tp_tuple_lagrange(const tp_rec *r, int out, double *L,
