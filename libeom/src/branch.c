@@ -131,7 +131,7 @@ int eom__branch_new(eom_branch **out, eom_system *s, double t,
         eom__branch_free(&b);
         return EOM_ERR_NOMEM;
     }
-    if ((rc = eom__constraints_at(s, x)) != EOM_OK) {
+    if ((rc = eom__constraints_at(s, t, x)) != EOM_OK) {
         eom__branch_free(&b);
         return rc;
     }
@@ -168,7 +168,7 @@ int eom__branch_check(eom_branch *b, eom_system *s, double t,
     const int n = b->n;
     const double *qd = x + n;
     int i, singular, rc;
-    if ((rc = eom__constraints_at(s, x)) != EOM_OK)
+    if ((rc = eom__constraints_at(s, t, x)) != EOM_OK)
         return rc;
     singular = rank_of(b, s->C) < b->rank0;
     if (singular && !b->in_pass) {

@@ -1,8 +1,9 @@
 /* constraints.c - projection of a state onto the constraint manifold:
- * q onto phi(q) = 0 and qd onto C qd = 0, each by the correction of least
- * W-norm,
- *     dq  = -W^-1 C^T S^-1 phi(q)   (Newton, repeated until |phi| <= tol)
- *     dqd = -W^-1 C^T S^-1 C qd     (once, at the corrected q)
+ * q onto phi(q, t) = 0 and qd onto C qd + dphi/dt = 0 (dphi/dt = 0 unless
+ * the constraints read the time), each by the correction of least W-norm,
+ *     dq  = -W^-1 C^T S^-1 phi(q, t)          (Newton, repeated until
+ *                                              |phi| <= tol)
+ *     dqd = -W^-1 C^T S^-1 (C qd + dphi/dt)   (once, at the corrected q)
  * with S = C W^-1 C^T. eom_project uses the mass matrix, W = M (the
  * correction of least kinetic energy, right for removing the small drift
  * of a step); eom_project_start uses W = I (the least change of the
@@ -49,9 +50,9 @@ static int correct(eom_system *s, double *v, double *r)
 
 enum metric { METRIC_MASS, METRIC_LAST_MASS, METRIC_IDENTITY };
 
-/* The projection with W = M at x, the M factored last, or I. */
-static int project(eom_system *s, double *x, double tol, int *iters,
-                   enum metric metric, const char *fn)
+/* The projection at time t with W = M at x, the M factored last, or I. */
+static int project(eom_system *s, double t, double *x, double tol,
+                   int *iters, enum metric metric, const char *fn)
 {
     const int n = s ? s->n : 0, m = s ? s->m : 0;
     int it = 0, rc, st, i, j;
@@ -69,16 +70,17 @@ static int project(eom_system *s, double *x, double tol, int *iters,
         return EOM_OK;
     if (!eom__finite(x, 2 * (size_t)n))
         return eom__fail(s, EOM_ERR_NONFINITE, "the state is not finite");
-    /* nothing to do when phi and C qd are within the tolerance */
-    st = tp_taylor2(s->tphi.ws, x, x + n, s->phi, s->phid, s->gam);
-    if ((rc = eom__tape_status(s, st, "the constraint residuals")))
+    /* nothing to do when phi and C qd (+ dphi/dt) are within the
+     * tolerance */
+    if ((rc = eom__constraint_rates(s, t, x, s->phi, s->phid, s->gam)))
         return rc;
     if (maxabs(s->phi, m) <= tol && maxabs(s->phid, m) <= tol)
         return EOM_OK;
     if (metric == METRIC_MASS ||
         (metric == METRIC_LAST_MASS && !s->mf_valid)) {
         double L;
-        st = tp_lagrange(s->tL.ws, x, 0, &L, NULL, s->M, NULL);
+        st = tp_lagrange(s->tL.ws, eom__tape_input(&s->tL, x, t), 0, &L,
+                         NULL, s->M, NULL);
         if ((rc = eom__tape_status(s, st,
                                    "the Lagrangian or the mass matrix")))
             return rc;
@@ -92,7 +94,7 @@ static int project(eom_system *s, double *x, double tol, int *iters,
         s->mf_valid = false; /* no longer M's factor */
     }
     for (;;) {
-        if ((rc = eom__constraints_at(s, x)) != EOM_OK)
+        if ((rc = eom__constraints_at(s, t, x)) != EOM_OK)
             return rc;
         res = maxabs(s->phi, m);
         if (res <= tol)
@@ -115,11 +117,12 @@ static int project(eom_system *s, double *x, double tol, int *iters,
             return rc;
         it++;
     }
-    /* velocities: C (at the projected q, already in s->C) qd = 0 */
+    /* velocities: C qd + dphi/dt = 0, both at the projected q (already in
+     * s->C and s->phit) */
     if ((rc = eom__factor_S(s)) != EOM_OK)
         return rc;
     for (j = 0; j < m; j++) {
-        double sum = 0.0;
+        double sum = s->tphi.tindex >= 0 ? s->phit[j] : 0.0;
         for (i = 0; i < n; i++)
             sum += s->C[(size_t)j * (size_t)n + (size_t)i] * x[n + i];
         s->wm[j] = sum;
@@ -136,15 +139,18 @@ static int project(eom_system *s, double *x, double tol, int *iters,
 
 int eom_project(eom_system *s, double *x, double tol, int *iters)
 {
-    return project(s, x, tol, iters, METRIC_MASS, "eom_project");
+    return project(s, s ? s->time : 0.0, x, tol, iters, METRIC_MASS,
+                   "eom_project");
 }
 
 int eom_project_start(eom_system *s, double *x, double tol, int *iters)
 {
-    return project(s, x, tol, iters, METRIC_IDENTITY, "eom_project_start");
+    return project(s, s ? s->time : 0.0, x, tol, iters, METRIC_IDENTITY,
+                   "eom_project_start");
 }
 
-int eom__project_step(eom_system *s, double *x, double tol, int *iters)
+int eom__project_step(eom_system *s, double t, double *x, double tol,
+                      int *iters)
 {
-    return project(s, x, tol, iters, METRIC_LAST_MASS, "projection");
+    return project(s, t, x, tol, iters, METRIC_LAST_MASS, "projection");
 }

@@ -1,7 +1,9 @@
 /* energy.c - the energies of a state: the Jacobi integral E = qd . dL/dqd
  * - L from the Lagrangian's tape (no user help needed: it equals T + V for
  * a natural system), T and V separately when the model gave them, the
- * power of the non-conservative forces, and the probes. */
+ * rate dE/dt (the power of the non-conservative forces, and for a model
+ * that reads the time -dL/dt and the power of moving constraints: see
+ * rhs.c), and the probes. */
 #include <math.h>
 #include <string.h>
 
@@ -10,7 +12,7 @@
 int eom_energy_at(eom_system *s, double t, const double *x, eom_energy *e)
 {
     const int n = s ? s->n : 0;
-    double L;
+    double L, dLdt;
     int st, rc, i;
     if (!s)
         return EOM_ERR_NULL;
@@ -20,25 +22,37 @@ int eom_energy_at(eom_system *s, double t, const double *x, eom_energy *e)
     if (!isfinite(t) || !eom__finite(x, 2 * (size_t)n))
         return eom__fail(s, EOM_ERR_NONFINITE,
                          "the state at t = %g is not finite", t);
-    st = tp_gradient(s->tL.ws, x, 0, &L, s->wn);
+    st = tp_gradient(s->tL.ws, eom__tape_input(&s->tL, x, t), 0, &L, s->wn);
     if ((rc = eom__tape_status(s, st, "the Lagrangian or its gradient")))
         return rc;
     e->L = L;
     e->E = -L;
     for (i = 0; i < n; i++)
         e->E += x[n + i] * s->wn[n + i];
+    /* the gradient's last entry, on a tape with the time */
+    dLdt = s->tL.tindex >= 0 ? s->wn[2 * n] : 0.0;
     e->T = e->V = NAN;
     if (s->has_tv) {
-        st = tp_eval(s->tE.ws, x, s->wE);
+        st = tp_eval(s->tE.ws, eom__tape_input(&s->tE, x, t), s->wE);
         if ((rc = eom__tape_status(s, st, "the kinetic or potential energy")))
             return rc;
         e->T = s->wE[0];
         e->V = s->wE[1];
     }
+    if (s->tphi.tindex >= 0) {
+        /* the constraint forces' power needs the multipliers: the whole
+         * evaluation */
+        if ((rc = eom__evaluate(s, t, x)) != EOM_OK)
+            return rc;
+        e->P = s->power;
+        e->Pt = s->power_t;
+        return EOM_OK;
+    }
     /* after the Lagrangian's gradient: this reuses the scratch s->wn */
     if ((rc = eom__nonconservative(s, t, x)) != EOM_OK)
         return rc;
-    e->P = s->power;
+    e->Pt = -dLdt;
+    e->P = s->power + e->Pt;
     return EOM_OK;
 }
 
@@ -54,7 +68,7 @@ int eom_probes_at(eom_system *s, const double *x, double *p)
         return eom__fail(s, EOM_ERR_NULL, "eom_probes_at: NULL argument");
     if (!eom__finite(x, 2 * (size_t)s->n))
         return eom__fail(s, EOM_ERR_NONFINITE, "the state is not finite");
-    st = tp_eval(s->tE.ws, x, s->wE);
+    st = tp_eval(s->tE.ws, eom__tape_input(&s->tE, x, s->time), s->wE);
     if ((rc = eom__tape_status(s, st, "a probe")))
         return rc;
     /* the E tape holds T and V first when the model gave them */

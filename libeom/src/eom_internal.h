@@ -11,6 +11,14 @@
  *   Q tape     (q, qd, t), groups 0, 1, 2; n outputs. Zero-order sweep.
  *   phi tape   q; m outputs. C by a forward Jacobian, gamma by one
  *              second-order Taylor sweep along qd.
+ *
+ * Explicit time (rheonomic models, rheonomic.c). A tape whose callbacks
+ * never call eom_time is recorded exactly as above. Otherwise the time
+ * takes the place its derivatives need: on the L and phi tapes it is one
+ * more independent, last, in group 2 (x = (q, qd, t) and (q, t)), since
+ * the equations need d2L/dqd dt, dL/dt, dphi/dt and d2phi/dt2; on the E
+ * and R tapes, which are only evaluated or differentiated in (q, qd), it
+ * is a parameter named EOM_TIME_NAME, set before each sweep.
  */
 #ifndef EOM_INTERNAL_H
 #define EOM_INTERNAL_H
@@ -24,6 +32,10 @@
 #include "eom/eom.h"
 
 #define EOM_MSG_LEN 256
+/* The tape parameter that carries the time on the E and R tapes (and,
+ * while it is first recorded, on the L and phi tapes): not a C
+ * identifier, so no model parameter can take its name. */
+#define EOM_TIME_NAME "(time)"
 
 /* ---- model ------------------------------------------------------------ */
 
@@ -78,11 +90,21 @@ typedef enum eom_role {
     EOM_ROLE_CONSTRAINT /* q only */
 } eom_role;
 
+/* What eom_time gives in a recording. */
+typedef enum eom_time_as {
+    EOM_TIME_NONE,  /* nothing: reading the time is an error */
+    EOM_TIME_INDEP, /* the independent time_index */
+    EOM_TIME_PARAM  /* the tape parameter EOM_TIME_NAME */
+} eom_time_as;
+
 struct eom_ctx {
     tp_rec *r;
     const eom_model *m;
     eom_role role;
     int n;
+    eom_time_as time_as;
+    int time_index;   /* the time's independent (EOM_TIME_INDEP) */
+    bool read_time;   /* eom_time was called */
     int status;       /* first error of this recording */
     char msg[EOM_MSG_LEN];
     unsigned lang_run; /* 0 when the recording starts; the model-file
@@ -101,6 +123,11 @@ typedef struct eom_tape {
     tp_ws *ws;
     int *pmap;
     int dirs; /* the workspace's largest number of directions */
+    int tindex;   /* the time's independent, or -1 */
+    int tparam;   /* the workspace parameter of the time, or -1 */
+    double tset;  /* the time last given to tparam (NaN: none yet) */
+    double *xt;   /* [tindex + 1] a sweep's input with the time (tindex
+                     >= 0), the system's own */
 } eom_tape;
 
 /* How many systems share one set of tapes: the last one frees them.
@@ -112,6 +139,8 @@ typedef struct eom_shared {
 struct eom_system {
     int n, m, np, nprobe;
     bool has_tv, has_R, has_Q;
+    bool reads_time;  /* the L, E, R or phi tape reads the time */
+    double time;      /* the time of the calls that take no t */
     eom_named *coords, *params, *probes; /* copies (fn unused) */
     double *pval;                        /* parameter values in use */
     eom_tape tL, tE, tR, tQ, tphi;
@@ -129,17 +158,23 @@ struct eom_system {
     double *qdd;   /* n */
     double *gR;    /* 2n gradient of R */
     double *Qv;    /* n  non-conservative forces -dR/dqd + Q */
-    double *xq;    /* 2n + 1: (q, qd, t) for the Q tape */
     double *C;     /* m x n */
     double *phi;   /* m */
-    double *phid;  /* m  C qd */
+    double *phid;  /* m  C qd (+ dphi/dt) */
+    double *phit;  /* m  dphi/dt at fixed q (0 unless phi reads time) */
+    double *Ct;    /* m x (n + 1) scratch: C and dphi/dt in one Jacobian */
+    double *dir;   /* n + 1: the Taylor direction (qd, 1) in (q, t) */
+    double dLdt;   /* dL/dt at fixed (q, qd), last evaluation */
     double *gam;   /* m  right side of C qdd = gam */
     double *Y;     /* n x m  M^-1 C^T */
     double *S;     /* m x m  C M^-1 C^T */
     double *lam;   /* m */
     double *wn, *wm; /* scratch n and m */
     double *wE;      /* scratch for energy tape outputs */
-    double power;  /* qd . Qv at the last evaluation */
+    double power;  /* dE/dt at the last evaluation: qd . Qv, and for a
+                      model that reads time also -dL/dt and, when the
+                      constraints read it, lambda . (C qd) */
+    double power_t; /* the part of power due to the explicit time */
 
     /* KLU for S: dense pattern in compressed columns, analyzed once */
     int *Sp, *Si;
@@ -166,6 +201,20 @@ struct eom_system {
 /* rhs.c: the non-conservative generalized forces at (t, x), -dR/dqd + Q,
  * into s->Qv, and their power qd . Qv into s->power (uses s->wn). */
 int eom__nonconservative(eom_system *s, double t, const double *x);
+
+/* rheonomic.c: the input of a sweep of et at (t, x): x itself when the
+ * tape has no time independent (after giving the time to its parameter,
+ * if it has one), else a copy of x's first tindex values followed by t in
+ * et->xt. */
+const double *eom__tape_input(eom_tape *et, const double *x, double t);
+/* rheonomic.c: phi, C qd + dphi/dt and -gamma's curvature part
+ * d2phi/ds2 along (q + s qd, t + s) at (t, x) into phi (may be NULL),
+ * phid and curv (m each): one Taylor sweep. */
+int eom__constraint_rates(eom_system *s, double t, const double *x,
+                          double *phi, double *phid, double *curv);
+/* rheonomic.c: EOM_ERR_MODEL with a message naming what when the
+ * Lagrangian, the dissipation or the constraints read the time. */
+int eom__refuse_time(eom_system *s, const char *what);
 /* rhs.c: evaluate everything the right-hand side needs at (t, x) and
  * solve; leaves M, Mf, F, C, lam, qdd, power in s. */
 int eom__evaluate(eom_system *s, double t, const double *x);
@@ -175,14 +224,17 @@ int eom__factor_mass(eom_system *s);
  * order, the factor of M the projection reuses), so that what follows
  * depends on its inputs alone, not on what s evaluated before. */
 void eom__forget(eom_system *s);
-/* Projection after an integrator's step: as eom_project, with the factor
- * of M from the last evaluation when there is one (constraints.c). */
-int eom__project_step(eom_system *s, double *x, double tol, int *iters);
+/* Projection after an integrator's step at time t: as eom_project, with
+ * the factor of M from the last evaluation when there is one
+ * (constraints.c). */
+int eom__project_step(eom_system *s, double t, double *x, double tol,
+                      int *iters);
 /* Solve Mf Mf^T X = B in place, B n x nrhs column-major (a column is n
  * contiguous values). */
 int eom__mass_solve(eom_system *s, double *B, int nrhs);
-/* Constraint Jacobian and values at q into s->C, s->phi. */
-int eom__constraints_at(eom_system *s, const double *q);
+/* Constraint Jacobian and values at (t, q) into s->C, s->phi, and, when
+ * the constraints read the time, dphi/dt into s->phit. */
+int eom__constraints_at(eom_system *s, double t, const double *q);
 /* Form S = C M^-1 C^T (also Y = M^-1 C^T) and factor it with KLU. */
 int eom__factor_S(eom_system *s);
 /* Solve S z = b in place (m values). */

@@ -28,7 +28,9 @@
  * when no step decreases the residual. Any equilibrium may be found,
  * stable or not; eom_linearize tells which. Generalized forces Q and the
  * dissipation play no part: Q may depend on t and qd, and R vanishes at
- * rest. See docs/linearization.md.
+ * rest. A model whose Lagrangian, dissipation or constraints read the
+ * time has no state of rest and is refused (EOM_ERR_MODEL). See
+ * docs/linearization.md.
  */
 #include <math.h>
 #include <stdlib.h>
@@ -120,7 +122,7 @@ static int residual(eom_system *s, eq_work *w, const double *q,
     memcpy(r, w->g, (size_t)n * sizeof(double));
     if (m == 0)
         return EOM_OK;
-    if ((rc = eom__constraints_at(s, q)) != EOM_OK)
+    if ((rc = eom__constraints_at(s, s->time, q)) != EOM_OK)
         return rc;
     for (j = 0; j < m; j++) {
         for (i = 0; i < n; i++)
@@ -334,6 +336,8 @@ int eom_equilibrium(eom_system *s, double *q, double tol, int *iters)
     if (!eom__finite(q, (size_t)s->n))
         return eom__fail(s, EOM_ERR_NONFINITE,
                          "eom_equilibrium: q is not finite");
+    if ((rc = eom__refuse_time(s, "eom_equilibrium")) != EOM_OK)
+        return rc;
     block = work_new(&w, s->n, s->m);
     if (!block)
         return eom__fail(s, EOM_ERR_NOMEM, "out of memory");

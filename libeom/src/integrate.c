@@ -173,7 +173,7 @@ int eom__integ_project(eom_integ *it, double *y)
     if (s->m == 0)
         return EOM_OK;
     if (it->o.project) {
-        rc = eom__project_step(s, y, it->o.proj_tol, &iters);
+        rc = eom__project_step(s, it->t, y, it->o.proj_tol, &iters);
         if (rc != EOM_OK) {
             snprintf(it->msg, sizeof it->msg, "at t = %.17g: %s", it->t,
                      s->msg);
@@ -184,7 +184,7 @@ int eom__integ_project(eom_integ *it, double *y)
     }
     /* s->phi holds phi at the (projected) q */
     if (!it->o.project) {
-        rc = eom_residuals(s, y, NULL, NULL);
+        rc = eom__constraint_rates(s, it->t, y, s->phi, s->phid, s->gam);
         if (rc != EOM_OK) {
             snprintf(it->msg, sizeof it->msg, "at t = %.17g: %s", it->t,
                      s->msg);
@@ -302,6 +302,7 @@ int eom_integ_new(eom_integ **out, eom_system *s, const eom_opts *o,
         return EOM_ERR_NOMEM;
     }
     memcpy(it->y, x0, 2 * (size_t)s->n * sizeof(double));
+    s->time = t0;
     s->rcond_S_min = 1.0;
     it->svd_base = s->n_svd;
     it->refuse_singular =
@@ -370,6 +371,8 @@ int eom_integ_advance(eom_integ *it, double tout, double *x, double *W)
     t0 = now();
     rc = it->ops->advance(it, tout);
     it->st.wall_time += now() - t0;
+    /* the calls without a t argument now see the state returned */
+    it->s->time = it->t;
     if (rc != EOM_OK)
         it->failed = rc;
     memcpy(x, it->y, 2 * (size_t)it->n * sizeof(double));

@@ -93,13 +93,18 @@ static int rk4_advance(eom_integ *it, double tout)
         const double tn = k + 1 == nsteps
                               ? tout
                               : it->t + (tout - it->t) / (double)(nsteps - k);
+        const double t_prev = it->t;
         if ((rc = rk4_step(it, r, tn - it->t)) != EOM_OK)
             return eom__integ_fail(it, rc, "rk4: %s", it->msg);
-        if ((rc = eom__integ_project(it, r->ynew)) != EOM_OK ||
-            (rc = eom__integ_branch(it, tn, r->ynew)) != EOM_OK)
-            return eom__integ_fail(it, rc, "rk4: %s", it->msg);
-        memcpy(it->y, r->ynew, (size_t)it->N * sizeof(double));
+        /* projected at the step's end: constraints that read the time
+         * must hold at tn */
         it->t = tn;
+        if ((rc = eom__integ_project(it, r->ynew)) != EOM_OK ||
+            (rc = eom__integ_branch(it, tn, r->ynew)) != EOM_OK) {
+            it->t = t_prev; /* it->y still holds the state at t_prev */
+            return eom__integ_fail(it, rc, "rk4: %s", it->msg);
+        }
+        memcpy(it->y, r->ynew, (size_t)it->N * sizeof(double));
         r->steps++;
     }
     return EOM_OK;

@@ -13,6 +13,9 @@
  * manifold; without it a bead on a circle would have no restoring force.
  * The frequencies solve Kr z = w^2 Mr z (LAPACK dsygv).
  *
+ * A model whose Lagrangian, dissipation or constraints read the time has
+ * no state of rest: it is refused (EOM_ERR_MODEL).
+ *
  * Rank: N and lambda come from one SVD of C, so a rank-deficient C (a
  * singular configuration, or redundant constraints) gives a larger null
  * space and the minimum-norm multipliers instead of a failure. Singular
@@ -199,7 +202,7 @@ static int constraint_part(eom_system *s, const double *q, lin_work *w,
     const int n = s->n, m = s->m, kmin = n < m ? n : m;
     int rc, i, j, r = 0;
     *rank = 0;
-    if ((rc = eom__constraints_at(s, q)) != EOM_OK)
+    if ((rc = eom__constraints_at(s, s->time, q)) != EOM_OK)
         return rc;
     if ((rc = check_on_manifold(s, q)) != EOM_OK)
         return rc;
@@ -391,6 +394,8 @@ int eom_linearize(eom_system *s, const double *q, eom_linear *lin)
     if (!eom__finite(q, (size_t)s->n))
         return eom__fail(s, EOM_ERR_NONFINITE,
                          "eom_linearize: q is not finite");
+    if ((rc = eom__refuse_time(s, "eom_linearize")) != EOM_OK)
+        return rc;
     lin->n = s->n;
     lin->M = calloc((size_t)s->n * (size_t)s->n, sizeof(double));
     lin->K = calloc((size_t)s->n * (size_t)s->n, sizeof(double));

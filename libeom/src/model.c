@@ -417,10 +417,18 @@ tp_val eom_time(eom_ctx *c)
 {
     if (!c)
         return ctx_bad(c, "eom_time: NULL context");
-    if (c->role != EOM_ROLE_FORCE)
-        return ctx_bad(c, "eom_time: only generalized forces may depend "
-                          "on time");
-    return tp_indep(c->r, 2 * c->n);
+    switch (c->time_as) {
+    case EOM_TIME_INDEP:
+        c->read_time = true;
+        return tp_indep(c->r, c->time_index);
+    case EOM_TIME_PARAM:
+        c->read_time = true;
+        return tp_param(c->r, EOM_TIME_NAME, 0.0);
+    default:
+        return ctx_bad(c, "eom_time: this recording has no time (give "
+                          "eom_model_run_lagrangian a context of 2n + 1 "
+                          "independents, the time last)");
+    }
 }
 
 tp_val eom_param_at(eom_ctx *c, int k)

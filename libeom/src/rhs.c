@@ -2,13 +2,23 @@
  * accelerations (and the multipliers of the constraints) by the
  * range-space method, and the accessors that read one evaluation.
  *
- *   F   = dL/dq - (d2L/dqd dq) qd - dR/dqd + Q
+ *   F   = dL/dq - (d2L/dqd dq) qd - d2L/dqd dt - dR/dqd + Q
  *   M   = LL^T                  (LAPACK dpotrf; small n: loops of our own)
  *   Y   = M^-1 C^T,  S = C Y                     (S: KLU, analyzed once,
  *                                                 refactored per call)
- *   S lambda = gamma - C M^-1 F,  gamma = -(d2phi/dq2)[qd, qd]
- *              - 2 alpha C qd - beta^2 phi       (Baumgarte, if enabled)
+ *   S lambda = gamma - C M^-1 F,
+ *   gamma = -(d2phi/dq2)[qd, qd] - 2 (d2phi/dq dt) qd - d2phi/dt2
+ *           - 2 alpha (C qd + dphi/dt) - beta^2 phi  (Baumgarte, if enabled)
  *   qdd = M^-1 F + Y lambda
+ *
+ * The time terms are there only when the Lagrangian or the constraints
+ * read the time (rheonomic.c); otherwise the sweeps are those of a tape
+ * without time, and cost what they always did. The power s->power = dE/dt
+ * of the Jacobi integral E = qd . dL/dqd - L follows from the equations:
+ *   dE/dt = qd . (-dR/dqd + Q) - dL/dt + lambda . (C qd)
+ * (the last term, the power of the constraint forces, is
+ * -lambda . dphi/dt on the constraints; it is counted only when they read
+ * the time: a fixed constraint does no work).
  *
  * Storage: M is symmetric, so its row-major array is also LAPACK's
  * column-major one. C (m x n, row-major) read column-major is C^T, so
@@ -124,9 +134,22 @@ int eom__mass_solve(eom_system *s, double *B, int nrhs)
     return EOM_OK;
 }
 
-int eom__constraints_at(eom_system *s, const double *q)
+int eom__constraints_at(eom_system *s, double t, const double *q)
 {
-    int st = tp_jacobian(s->tphi.ws, q, 0, s->n, s->phi, s->C);
+    const int n = s->n, m = s->m;
+    int st, j;
+    if (s->tphi.tindex < 0) {
+        st = tp_jacobian(s->tphi.ws, q, 0, n, s->phi, s->C);
+        return eom__tape_status(s, st, "the constraints or their Jacobian");
+    }
+    /* the time's column too: dphi/dt, for the velocity constraint */
+    st = tp_jacobian(s->tphi.ws, eom__tape_input(&s->tphi, q, t), 0, n + 1,
+                     s->phi, s->Ct);
+    for (j = 0; j < m; j++) {
+        const double *row = s->Ct + (size_t)j * (size_t)(n + 1);
+        memcpy(s->C + (size_t)j * (size_t)n, row, (size_t)n * sizeof(double));
+        s->phit[j] = row[n];
+    }
     return eom__tape_status(s, st, "the constraints or their Jacobian");
 }
 
@@ -276,16 +299,15 @@ int eom__nonconservative(eom_system *s, double t, const double *x)
     memset(s->Qv, 0, (size_t)n * sizeof(double));
     s->power = 0.0;
     if (s->has_R) {
-        st = tp_gradient(s->tR.ws, x, 0, NULL, s->gR);
+        st = tp_gradient(s->tR.ws, eom__tape_input(&s->tR, x, t), 0, NULL,
+                         s->gR);
         if ((rc = eom__tape_status(s, st, "the gradient of the dissipation")))
             return rc;
         for (i = 0; i < n; i++)
             s->Qv[i] = -s->gR[n + i];
     }
     if (s->has_Q) {
-        memcpy(s->xq, x, 2 * (size_t)n * sizeof(double));
-        s->xq[2 * n] = t;
-        st = tp_eval(s->tQ.ws, s->xq, s->wn);
+        st = tp_eval(s->tQ.ws, eom__tape_input(&s->tQ, x, t), s->wn);
         if ((rc = eom__tape_status(s, st, "a generalized force")))
             return rc;
         for (i = 0; i < n; i++)
@@ -307,8 +329,9 @@ int eom__evaluate(eom_system *s, double t, const double *x)
                          "the state at t = %g is not finite", t);
     /* L itself is asked for (the forward sweep computes it anyway) so
      * that a state outside the model's domain is an error even where the
-     * derivatives happen to stay finite */
-    st = tp_lagrange(s->tL.ws, x, 0, &L, s->g, s->M, s->h);
+     * derivatives happen to stay finite; h includes d2L/dqd dt */
+    st = tp_lagrange_t(s->tL.ws, eom__tape_input(&s->tL, x, t), 0, &L, s->g,
+                       &s->dLdt, s->M, s->h);
     if ((rc = eom__tape_status(s, st, "the Lagrangian or a derivative")))
         return rc;
     for (i = 0; i < n; i++)
@@ -317,17 +340,18 @@ int eom__evaluate(eom_system *s, double t, const double *x)
         return rc;
     for (i = 0; i < n; i++)
         s->F[i] += s->Qv[i];
+    s->power_t = -s->dLdt;
     if ((rc = eom__factor_mass(s)) != EOM_OK)
         return rc;
     memcpy(s->qdd, s->F, (size_t)n * sizeof(double));
     if ((rc = eom__mass_solve(s, s->qdd, 1)) != EOM_OK)
         return rc;
     if (m > 0) {
-        /* C and phi, then C qd and the curvature along qd in one sweep */
-        if ((rc = eom__constraints_at(s, x)) != EOM_OK)
+        /* C and phi, then C qd (+ dphi/dt) and the curvature along the
+         * motion in one sweep */
+        if ((rc = eom__constraints_at(s, t, x)) != EOM_OK)
             return rc;
-        st = tp_taylor2(s->tphi.ws, x, qd, NULL, s->phid, s->gam);
-        if ((rc = eom__tape_status(s, st, "the constraint curvature")))
+        if ((rc = eom__constraint_rates(s, t, x, NULL, s->phid, s->gam)))
             return rc;
         for (j = 0; j < m; j++)
             s->gam[j] = -s->gam[j] - 2.0 * s->alpha * s->phid[j] -
@@ -343,7 +367,14 @@ int eom__evaluate(eom_system *s, double t, const double *x)
             for (i = 0; i < n; i++)
                 s->qdd[i] += s->Y[(size_t)j * (size_t)n + (size_t)i] *
                              s->lam[j];
+        /* moving constraints do work: lambda . (C qd), the power of the
+         * constraint force C^T lambda */
+        if (s->tphi.tindex >= 0)
+            for (j = 0; j < m; j++)
+                s->power_t += s->lam[j] * dot(s->C + (size_t)j * (size_t)n,
+                                              qd, n);
     }
+    s->power += s->power_t;
     if (!eom__finite(s->qdd, (size_t)n))
         return eom__fail(s, EOM_ERR_NONFINITE,
                          "the accelerations at t = %g are not finite", t);
@@ -376,7 +407,8 @@ int eom_mass_matrix(eom_system *s, const double *x, double *M)
         return eom__fail(s, EOM_ERR_NULL, "eom_mass_matrix: NULL argument");
     if (!eom__finite(x, 2 * (size_t)s->n))
         return eom__fail(s, EOM_ERR_NONFINITE, "the state is not finite");
-    st = tp_lagrange(s->tL.ws, x, 0, &L, NULL, M, NULL);
+    st = tp_lagrange(s->tL.ws, eom__tape_input(&s->tL, x, s->time), 0, &L,
+                     NULL, M, NULL);
     return eom__tape_status(s, st, "the Lagrangian or the mass matrix");
 }
 
@@ -394,7 +426,7 @@ int eom_constraint_jacobian(eom_system *s, const double *x, double *C,
         return EOM_OK;
     if (!eom__finite(x, (size_t)s->n))
         return eom__fail(s, EOM_ERR_NONFINITE, "q is not finite");
-    if ((rc = eom__constraints_at(s, x)) != EOM_OK)
+    if ((rc = eom__constraints_at(s, s->time, x)) != EOM_OK)
         return rc;
     memcpy(C, s->C, (size_t)s->m * (size_t)s->n * sizeof(double));
     if (phi)
@@ -421,7 +453,7 @@ int eom_multipliers(eom_system *s, double t, const double *x,
 int eom_residuals(eom_system *s, const double *x, double *phi,
                   double *phidot)
 {
-    int st;
+    int rc;
     if (!s)
         return EOM_ERR_NULL;
     s->msg[0] = '\0';
@@ -431,9 +463,9 @@ int eom_residuals(eom_system *s, const double *x, double *phi,
         return EOM_OK;
     if (!eom__finite(x, 2 * (size_t)s->n))
         return eom__fail(s, EOM_ERR_NONFINITE, "the state is not finite");
-    st = tp_taylor2(s->tphi.ws, x, x + s->n, s->phi, s->phid, s->gam);
-    if (st < 0 || st == TP_WARN_NONFINITE)
-        return eom__tape_status(s, st, "the constraint residuals");
+    if ((rc = eom__constraint_rates(s, s->time, x, s->phi, s->phid,
+                                    s->gam)) != EOM_OK)
+        return rc;
     if (phi)
         memcpy(phi, s->phi, (size_t)s->m * sizeof(double));
     if (phidot)
@@ -477,7 +509,7 @@ int eom_condition(eom_system *s, const double *x, double *rcond_M,
     if (rcond_S) {
         *rcond_S = 1.0;
         if (s->m > 0) {
-            if ((rc = eom__constraints_at(s, x)) != EOM_OK)
+            if ((rc = eom__constraints_at(s, s->time, x)) != EOM_OK)
                 return rc;
             rc = eom__factor_S(s);
             if (rc == EOM_OK && s->S_pinv && s->rcond_S == 0.0) {

@@ -219,13 +219,18 @@ int eom_model_run_lagrangian(const eom_model *m, tp_rec *r, const double *x)
         return m->status;
     if (m->n_coords < 1 || (!m->L.set && m->T.n == 0))
         return EOM_ERR_MODEL;
-    if (tp_rec_n_indep(r) != 2 * m->n_coords)
+    if (tp_rec_n_indep(r) != 2 * m->n_coords &&
+        tp_rec_n_indep(r) != 2 * m->n_coords + 1)
         return EOM_ERR_ARG;
     memset(&c, 0, sizeof c);
     c.r = r;
     c.m = m;
     c.role = EOM_ROLE_STATE;
     c.n = m->n_coords;
+    if (tp_rec_n_indep(r) > 2 * c.n) {
+        c.time_as = EOM_TIME_INDEP;
+        c.time_index = 2 * c.n;
+    }
     arg.c = &c;
     arg.body = body_L;
     /* x may be NULL for the recorder; the evaluators refuse it */
@@ -239,13 +244,16 @@ int eom_model_run_lagrangian(const eom_model *m, tp_rec *r, const double *x)
     return rc < 0 ? EOM_ERR_RECORD : EOM_OK;
 }
 
-/* Record one tape and make its workspace and parameter map. */
-static int record(eom_system *s, const eom_model *m, eom_tape *et,
-                  eom_role role, body_fn body, const char *what, int dirs)
+/* Record one tape and make its workspace and parameter map, with the
+ * time (if a callback reads it) as time_as says: the independent after
+ * the coordinates (and rates), or the parameter EOM_TIME_NAME. */
+static int record_once(eom_system *s, const eom_model *m, eom_tape *et,
+                       eom_role role, body_fn body, const char *what,
+                       int dirs, eom_time_as time_as, bool *read_time)
 {
     const int n = m->n_coords;
-    const int nind = role == EOM_ROLE_FORCE ? 2 * n + 1
-                     : role == EOM_ROLE_CONSTRAINT ? n : 2 * n;
+    const int base = role == EOM_ROLE_CONSTRAINT ? n : 2 * n;
+    const int nind = base + (time_as == EOM_TIME_INDEP);
     unsigned char *group = malloc((size_t)nind);
     eom_ctx c;
     rec_arg arg;
@@ -254,12 +262,17 @@ static int record(eom_system *s, const eom_model *m, eom_tape *et,
     if (!group)
         return eom__fail(s, EOM_ERR_NOMEM, "out of memory");
     for (k = 0; k < nind; k++)
-        group[k] = (unsigned char)(k < n ? 0 : k < 2 * n ? 1 : 2);
+        group[k] = (unsigned char)(k < n ? 0 : k < base ? 1 : 2);
     memset(&c, 0, sizeof c);
     c.m = m;
     c.role = role;
     c.n = n;
+    c.time_as = time_as;
+    c.time_index = base;
     et->dirs = dirs;
+    et->tindex = time_as == EOM_TIME_INDEP ? base : -1;
+    et->tparam = -1;
+    et->tset = NAN;
     rc = tp_recorder_new(&c.r, nind, group, NULL);
     free(group);
     if (rc != TP_OK)
@@ -280,16 +293,68 @@ static int record(eom_system *s, const eom_model *m, eom_tape *et,
                        tp_strerror(rc));
     } else {
         et->pmap = malloc((size_t)(s->np ? s->np : 1) * sizeof(int));
-        if (!et->pmap) {
+        et->xt = et->tindex >= 0
+                     ? malloc((size_t)(et->tindex + 1) * sizeof(double))
+                     : NULL;
+        if (!et->pmap || (et->tindex >= 0 && !et->xt)) {
             rc = eom__fail(s, EOM_ERR_NOMEM, "out of memory");
         } else {
             for (k = 0; k < s->np; k++)
                 et->pmap[k] = tp_tape_param_index(et->tape, s->params[k].name);
+            if (time_as == EOM_TIME_PARAM)
+                et->tparam = tp_tape_param_index(et->tape, EOM_TIME_NAME);
             rc = EOM_OK;
         }
     }
+    *read_time = c.read_time;
     tp_rec_free(&c.r);
     return rc;
+}
+
+static void tape_free(eom_tape *et, bool last);
+
+/* The five tapes of a system that has recorded none yet: no time. */
+static void tapes_init(eom_system *s)
+{
+    eom_tape *t[5];
+    int k;
+    t[0] = &s->tL;
+    t[1] = &s->tE;
+    t[2] = &s->tR;
+    t[3] = &s->tQ;
+    t[4] = &s->tphi;
+    for (k = 0; k < 5; k++) {
+        t[k]->tindex = -1;
+        t[k]->tparam = -1;
+        t[k]->tset = NAN;
+    }
+}
+
+/* Record one tape. The forces always have the time as an independent. The
+ * E and R tapes have it as a parameter: they are evaluated, or
+ * differentiated in (q, qd) only. The L and phi tapes are recorded first
+ * as the E tape, and recorded again with the time as an independent only
+ * if a callback read it: a model without time gets the tapes it always
+ * had, op for op, and pays nothing; one with time pays a second
+ * recording once. */
+static int record(eom_system *s, const eom_model *m, eom_tape *et,
+                  eom_role role, body_fn body, const char *what, int dirs,
+                  bool differentiate_time)
+{
+    bool read_time = false;
+    int rc;
+    if (role == EOM_ROLE_FORCE)
+        return record_once(s, m, et, role, body, what, dirs, EOM_TIME_INDEP,
+                           &read_time);
+    rc = record_once(s, m, et, role, body, what, dirs, EOM_TIME_PARAM,
+                     &read_time);
+    if (rc != EOM_OK || !differentiate_time || !read_time)
+        return rc;
+    tape_free(et, true);
+    /* one more direction: the constraints' Jacobian includes dphi/dt */
+    return record_once(s, m, et, role, body, what,
+                       role == EOM_ROLE_CONSTRAINT ? dirs + 1 : dirs,
+                       EOM_TIME_INDEP, &read_time);
 }
 
 /* The tape itself only when this system is its last owner. */
@@ -301,6 +366,8 @@ static void tape_free(eom_tape *et, bool last)
     et->tape = NULL;
     free(et->pmap);
     et->pmap = NULL;
+    free(et->xt);
+    et->xt = NULL;
 }
 
 /* ---- the system --------------------------------------------------------- */
@@ -355,10 +422,12 @@ void eom_system_free(eom_system **sp)
     free(s->qdd);
     free(s->gR);
     free(s->Qv);
-    free(s->xq);
     free(s->C);
     free(s->phi);
     free(s->phid);
+    free(s->phit);
+    free(s->Ct);
+    free(s->dir);
     free(s->gam);
     free(s->Y);
     free(s->S);
@@ -407,10 +476,12 @@ static int alloc_arrays(eom_system *s)
     s->qdd = calloc(n, sizeof(double));
     s->gR = calloc(2 * n, sizeof(double));
     s->Qv = calloc(n, sizeof(double));
-    s->xq = calloc(2 * n + 1, sizeof(double));
     s->C = calloc(mm * n, sizeof(double));
     s->phi = calloc(mm, sizeof(double));
     s->phid = calloc(mm, sizeof(double));
+    s->phit = calloc(mm, sizeof(double));
+    s->Ct = calloc(mm * (n + 1), sizeof(double));
+    s->dir = calloc(n + 1, sizeof(double));
     s->gam = calloc(mm, sizeof(double));
     s->Y = calloc(n * mm, sizeof(double));
     s->S = calloc(mm * mm, sizeof(double));
@@ -419,8 +490,9 @@ static int alloc_arrays(eom_system *s)
     s->wm = calloc(mm, sizeof(double));
     s->wE = calloc((size_t)s->nprobe + 2, sizeof(double));
     if (!s->pval || !s->M || !s->Mf || !s->g || !s->h || !s->F || !s->qdd ||
-        !s->gR || !s->Qv || !s->xq || !s->C || !s->phi || !s->phid ||
-        !s->gam || !s->Y || !s->S || !s->lam || !s->wn || !s->wm || !s->wE)
+        !s->gR || !s->Qv || !s->C || !s->phi || !s->phid ||
+        !s->phit || !s->Ct || !s->dir || !s->gam || !s->Y || !s->S ||
+        !s->lam || !s->wn || !s->wm || !s->wE)
         return eom__fail(s, EOM_ERR_NOMEM, "out of memory");
     return EOM_OK;
 }
@@ -510,6 +582,7 @@ int eom_system_new(eom_system **out, const eom_model *m, char *errmsg,
     s->has_Q = m->Q.set;
     s->rcond_S = 1.0;
     s->rcond_S_min = 1.0;
+    tapes_init(s);
     s->shared = malloc(sizeof *s->shared);
     if (!s->shared) {
         free(s);
@@ -528,25 +601,27 @@ int eom_system_new(eom_system **out, const eom_model *m, char *errmsg,
     for (k = 0; k < s->np; k++)
         s->pval[k] = s->params[k].v0;
     if ((rc = record(s, m, &s->tL, EOM_ROLE_STATE, body_L, "Lagrangian",
-                     s->n)) != EOM_OK)
+                     s->n, true)) != EOM_OK)
         goto fail;
     if ((s->has_tv || s->nprobe > 0) &&
-        (rc = record(s, m, &s->tE, EOM_ROLE_STATE, body_E, "energies",
-                     1)) != EOM_OK)
+        (rc = record(s, m, &s->tE, EOM_ROLE_STATE, body_E, "energies", 1,
+                     false)) != EOM_OK)
         goto fail;
     if (s->has_R && (rc = record(s, m, &s->tR, EOM_ROLE_STATE, body_R,
-                                 "dissipation", 1)) != EOM_OK)
+                                 "dissipation", 1, false)) != EOM_OK)
         goto fail;
     if (s->has_Q && (rc = record(s, m, &s->tQ, EOM_ROLE_FORCE, body_Q,
-                                 "forces", 1)) != EOM_OK)
+                                 "forces", 1, false)) != EOM_OK)
         goto fail;
     if (s->m > 0) {
         if ((rc = record(s, m, &s->tphi, EOM_ROLE_CONSTRAINT, body_phi,
-                         "constraints", s->n)) != EOM_OK)
+                         "constraints", s->n, true)) != EOM_OK)
             goto fail;
         if ((rc = setup_klu(s)) != EOM_OK)
             goto fail;
     }
+    s->reads_time = s->tL.tindex >= 0 || s->tE.tparam >= 0 ||
+                    s->tR.tparam >= 0 || s->tphi.tindex >= 0;
     s->msg[0] = '\0';
     *out = s;
     return EOM_OK;
@@ -564,7 +639,13 @@ static int clone_tape(eom_system *c, eom_tape *dst, const eom_tape *src)
         return EOM_OK;
     dst->tape = src->tape;
     dst->dirs = src->dirs;
+    dst->tindex = src->tindex;
+    dst->tparam = src->tparam;
+    dst->tset = NAN;
     if (tp_ws_new(&dst->ws, dst->tape, dst->dirs, NULL) != TP_OK)
+        return eom__fail(c, EOM_ERR_NOMEM, "out of memory");
+    if (dst->tindex >= 0 &&
+        !(dst->xt = malloc((size_t)(dst->tindex + 1) * sizeof(double))))
         return eom__fail(c, EOM_ERR_NOMEM, "out of memory");
     dst->pmap = malloc((size_t)(c->np ? c->np : 1) * sizeof(int));
     if (!dst->pmap)
@@ -599,10 +680,13 @@ int eom_system_clone(eom_system **out, const eom_system *s, char *errmsg,
     c->has_tv = s->has_tv;
     c->has_R = s->has_R;
     c->has_Q = s->has_Q;
+    c->reads_time = s->reads_time;
+    c->time = s->time;
     c->alpha = s->alpha;
     c->beta = s->beta;
     c->rcond_S = 1.0;
     c->rcond_S_min = 1.0;
+    tapes_init(c);
     /* from here on c owns a share of the tapes, whatever happens */
     c->shared = s->shared;
     atomic_fetch_add(&c->shared->refs, 1);

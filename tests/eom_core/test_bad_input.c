@@ -10,9 +10,11 @@
  *  - inconsistent models (EOM_ERR_MODEL): T and L both, V and L, no
  *    energy, no coordinates, as many constraints as coordinates;
  *  - recording errors (EOM_ERR_RECORD, the message names the problem): an
- *    unknown parameter, qd or time in the constraints, time in T, a bad
- *    coordinate index, a callback returning non-zero, an output left
- *    unset (scalar and vector callbacks);
+ *    unknown parameter, qd in the constraints, a bad coordinate index, a
+ *    callback returning non-zero, an output left unset (scalar and vector
+ *    callbacks); the time read by a Lagrangian run on a context without
+ *    it (eom_model_run_lagrangian with 2n independents), while T and the
+ *    constraints may read it;
  *  - evaluation errors: a mass matrix that is singular (a coordinate
  *    missing from T) or indefinite -> EOM_ERR_SINGULAR_MASS with "positive
  *    definite" in the message; duplicate constraints or a closed chain
@@ -372,16 +374,18 @@ static void model_errors(void)
 
 static void recording_errors(void)
 {
-    static int kinds[] = {BAD_PARAM, BAD_TIME_IN_T, BAD_INDEX,
-                                BAD_RETURN, BAD_UNSET};
-    static const char *const says[] = {"'nosuch'", "time", "coordinate 5",
+    static int kinds[] = {BAD_PARAM, BAD_INDEX, BAD_RETURN, BAD_UNSET};
+    static const char *const says[] = {"'nosuch'", "coordinate 5",
                                        "returned 7",
                                        "kinetic energy callback did not "
                                        "set its value"};
-    static int phi_kinds[] = {BAD_QD_IN_PHI, BAD_TIME_IN_PHI,
-                                    BAD_RETURN, BAD_UNSET};
-    static const char *const phi_says[] = {"q only", "time", "returned -2",
+    static int phi_kinds[] = {BAD_QD_IN_PHI, BAD_RETURN, BAD_UNSET};
+    static const char *const phi_says[] = {"q only", "returned -2",
                                            "did not set value 2 of 2"};
+    static int time_in_T = BAD_TIME_IN_T, time_in_phi = BAD_TIME_IN_PHI;
+    eom_system *s = NULL;
+    tp_rec *ev = NULL;
+    double x[3] = {0.5, 0.25, 2.0};
     eom_model *md;
     size_t i;
     for (i = 0; i < sizeof kinds / sizeof kinds[0]; i++) {
@@ -404,12 +408,35 @@ static void recording_errors(void)
     eom_model_set_dissipation(md, bad_scalar, &kinds[0]);
     expect_fail(md, EOM_ERR_RECORD, "'nosuch'");
     md = unit_model(1);
-    eom_model_add_probe(md, "p", NULL, bad_scalar, &kinds[3]);
+    eom_model_add_probe(md, "p", NULL, bad_scalar, &kinds[2]);
     expect_fail(md, EOM_ERR_RECORD, "returned 7");
     md = unit_model(1);
-    eom_model_set_potential(md, bad_scalar, &kinds[4]);
+    eom_model_set_potential(md, bad_scalar, &kinds[3]);
     expect_fail(md, EOM_ERR_RECORD,
                 "potential energy callback did not set its value");
+    /* the time in T and in the constraints is no mistake */
+    md = NULL;
+    eom_model_new(&md);
+    eom_model_add_coord(md, "q", NULL, 0.0, 0.0);
+    eom_model_set_kinetic(md, bad_scalar, &time_in_T);
+    CHECK_INT(eom_system_new(&s, md, NULL, 0), EOM_OK);
+    CHECK_INT(eom_system_reads_time(s), 1);
+    eom_system_free(&s);
+    /* ... but a Lagrangian run on a context with no time cannot read it
+     * (2n independents), and can with the time as the (2n + 1)-th */
+    CHECK_INT(tp_evaluator_new(&ev, 2, NULL), TP_OK);
+    CHECK_INT(eom_model_run_lagrangian(md, ev, x), EOM_ERR_RECORD);
+    tp_rec_free(&ev);
+    CHECK_INT(tp_evaluator_new(&ev, 3, NULL), TP_OK);
+    CHECK_INT(eom_model_run_lagrangian(md, ev, x), EOM_OK);
+    tp_rec_free(&ev);
+    eom_model_free(&md);
+    md = unit_model(3);
+    eom_model_set_constraints(md, 2, bad_phi, &time_in_phi);
+    CHECK_INT(eom_system_new(&s, md, NULL, 0), EOM_OK);
+    CHECK_INT(eom_system_reads_time(s), 1);
+    eom_system_free(&s);
+    eom_model_free(&md);
 }
 
 static void singular_mass(void)

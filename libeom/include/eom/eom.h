@@ -1,19 +1,25 @@
 /* eom.h - public API of libeom, the Lagrangian compiler.
  *
  * A model names its generalized coordinates and parameters and gives its
- * energies as recording callbacks: the kinetic energy T(q, qd) and the
- * potential V(q) (or a whole Lagrangian L(q, qd)), optionally a Rayleigh
- * dissipation function R(q, qd), generalized forces Q(q, qd, t), holonomic
- * constraints phi(q) = 0 and named probes. eom_system_new records every
- * callback once onto tapes; from then on each evaluation replays the tapes
- * and solves Lagrange's equations
+ * energies as recording callbacks: the kinetic energy T(q, qd, t) and the
+ * potential V(q, t) (or a whole Lagrangian L(q, qd, t)), optionally a
+ * Rayleigh dissipation function R(q, qd, t), generalized forces
+ * Q(q, qd, t), holonomic constraints phi(q, t) = 0 and named probes. Any
+ * callback may read the time (eom_time): a driven crank, a prescribed
+ * coordinate, a moving support. eom_system_new records every callback
+ * once onto tapes; from then on each evaluation replays the tapes and
+ * solves Lagrange's equations
  *
- *     M qdd = dL/dq - (d2L/dqd dq) qd - dR/dqd + Q + C^T lambda
- *     C qdd = -(d2phi/dq2)[qd, qd]   (+ Baumgarte terms if enabled)
+ *     M qdd = dL/dq - (d2L/dqd dq) qd - d2L/dqd dt - dR/dqd + Q
+ *             + C^T lambda
+ *     C qdd = -(d2phi/dq2)[qd, qd] - 2 (d2phi/dq dt) qd - d2phi/dt2
+ *             (+ Baumgarte terms if enabled)
  *
  * with M = d2L/dqd2 and C = dphi/dq, by the range-space method (Cholesky
- * of M, KLU of S = C M^-1 C^T). Sign convention: the generalized
- * constraint force is C^T lambda, added to the applied forces.
+ * of M, KLU of S = C M^-1 C^T); the terms in t vanish for a model that
+ * does not read the time, and cost nothing then. The velocities satisfy
+ * C qd + dphi/dt = 0. Sign convention: the generalized constraint force is
+ * C^T lambda, added to the applied forces.
  *
  * State vectors are x = (q, qd), 2n values. Conventions as in libtape:
  * status 0 success, > 0 warning, < 0 error; constructors write through
@@ -115,7 +121,7 @@ EOM_API int eom_model_add_potential(eom_model *m, eom_scalar_fn V,
                                     void *user);
 EOM_API int eom_model_set_lagrangian(eom_model *m, eom_scalar_fn L,
                                      void *user);
-/* Rayleigh dissipation R(q, qd): generalized force -dR/dqd. */
+/* Rayleigh dissipation R(q, qd, t): generalized force -dR/dqd. */
 EOM_API int eom_model_set_dissipation(eom_model *m, eom_scalar_fn R,
                                       void *user);
 EOM_API int eom_model_add_dissipation(eom_model *m, eom_scalar_fn R,
@@ -124,10 +130,11 @@ EOM_API int eom_model_add_dissipation(eom_model *m, eom_scalar_fn R,
  * n outputs start as the constant 0: the callback sets only the nonzero
  * entries. */
 EOM_API int eom_model_set_forces(eom_model *m, eom_vector_fn Q, void *user);
-/* Holonomic constraints phi(q) = 0: count values of q only (reading qd
- * or the time in this callback is an error). set_ makes phi the only
- * block of constraints; add_ appends a block (the blocks are stacked in
- * the order added). */
+/* Holonomic constraints phi(q, t) = 0: count values of q and the time
+ * (reading qd in this callback is an error). A constraint that reads the
+ * time moves (a prescribed coordinate: q_k - f(t)); its velocity form is
+ * C qd + dphi/dt = 0. set_ makes phi the only block of constraints; add_
+ * appends a block (the blocks are stacked in the order added). */
 EOM_API int eom_model_set_constraints(eom_model *m, int count,
                                       eom_vector_fn phi, void *user);
 EOM_API int eom_model_add_constraints(eom_model *m, int count,
@@ -139,7 +146,7 @@ EOM_API int eom_model_attach(eom_model *m, void *data,
                              void (*free_fn)(void *));
 /* Number of coordinates added so far (the index the next one gets). */
 EOM_API int eom_model_ncoords(const eom_model *m);
-/* A named scalar of (q, qd) reported beside the energies (for example
+/* A named scalar of (q, qd, t) reported beside the energies (for example
  * the flexible part of a link's kinetic energy). */
 EOM_API int eom_model_add_probe(eom_model *m, const char *name,
                                 const char *unit, eom_scalar_fn f,
@@ -148,7 +155,12 @@ EOM_API int eom_model_add_probe(eom_model *m, const char *name,
 /* Inside a callback: the recording context (for tp_* operations), the
  * coordinates, rates, time and parameters as recorded values. A bad index
  * or unknown parameter name gives an invalid value and makes recording
- * fail with a message naming it. */
+ * fail with a message naming it. eom_time may be read by every callback;
+ * a tape whose callbacks never read it is recorded without it (the
+ * derivatives in t of the equations above are then not computed at all),
+ * one that reads it is recorded a second time with the time as an
+ * independent variable where the equations need its derivatives (the
+ * Lagrangian and the constraints). */
 EOM_API tp_rec *eom_rec(eom_ctx *c);
 EOM_API int eom_ncoords(const eom_ctx *c);
 EOM_API tp_val eom_q(eom_ctx *c, int i);
@@ -167,7 +179,9 @@ EOM_API tp_val eom_param_at(eom_ctx *c, int k);
  * the same derivative blocks as the tape from the same source
  * (tp_tuple_lagrange), with the double evaluator its value. Parameters
  * take their defaults (tp_rec_set_param overrides them in evaluators).
- * The output is named "L". Returns a status. */
+ * The output is named "L". A context of 2n + 1 independents gives the
+ * time as the last one, x = (q, qd, t); with 2n, a Lagrangian that reads
+ * the time fails (EOM_ERR_RECORD). Returns a status. */
 EOM_API int eom_model_run_lagrangian(const eom_model *m, tp_rec *r,
                                      const double *x);
 
@@ -203,6 +217,10 @@ EOM_API int eom_system_nprobes(const eom_system *s);
 /* 1 if T and V were given separately (so both are reported), else 0. */
 EOM_API int eom_system_has_tv(const eom_system *s);
 EOM_API int eom_system_has_dissipation(const eom_system *s);
+/* 1 if the energies, the dissipation, the constraints or a probe read the
+ * time (a rheonomic model: the calls without a t argument then depend on
+ * eom_set_time), else 0. Forces that read the time do not count. */
+EOM_API int eom_system_reads_time(const eom_system *s);
 
 /* Names, units (never NULL: "" when none), defaults. NULL / NaN when the
  * index is out of range. */
@@ -227,9 +245,21 @@ EOM_API double eom_get_param(const eom_system *s, int k);
 EOM_API int eom_initial_state(const eom_system *s, double *x);
 
 /* Baumgarte stabilization of the constraints at acceleration level:
- * C qdd = gamma - 2 alpha (C qd) - beta^2 phi. Both 0 (the default)
- * turns it off. alpha, beta >= 0, in 1/s. */
+ * C qdd = gamma - 2 alpha (C qd + dphi/dt) - beta^2 phi. Both 0 (the
+ * default) turns it off. alpha, beta >= 0, in 1/s. */
 EOM_API int eom_set_baumgarte(eom_system *s, double alpha, double beta);
+
+/* The time at which the calls that take no t argument (eom_mass_matrix,
+ * eom_constraint_jacobian, eom_residuals, eom_condition, eom_probes_at,
+ * eom_project, eom_project_start) evaluate a model that reads the time.
+ * It is 0 when the system is made (a clone starts with the time of s);
+ * eom_integ_new sets it to t0 and eom_integ_advance to the time it
+ * returns at, so the state an integrator hands back is evaluated at its
+ * own time. The calls that take t use theirs and leave this time alone.
+ * Models that do not read the time ignore it. A non-finite t is refused
+ * (EOM_ERR_NONFINITE). */
+EOM_API int eom_set_time(eom_system *s, double t);
+EOM_API double eom_get_time(const eom_system *s);
 
 /* ---- evaluation at a state -------------------------------------------- */
 
@@ -249,8 +279,9 @@ EOM_API int eom_constraint_jacobian(eom_system *s, const double *x,
  * is C^T lambda. */
 EOM_API int eom_multipliers(eom_system *s, double t, const double *x,
                             double *lambda);
-/* Constraint residuals: phi (m) and the velocity residual C qd (m);
- * either may be NULL. */
+/* Constraint residuals: phi (m) and the velocity residual C qd +
+ * dphi/dt (m; C qd for constraints that do not read the time); either
+ * may be NULL. */
 EOM_API int eom_residuals(eom_system *s, const double *x, double *phi,
                           double *phidot);
 /* Reciprocal condition estimates (1-norm, LAPACK dpocon and KLU's rcond)
@@ -263,18 +294,25 @@ typedef struct eom_energy {
     double L;     /* the Lagrangian */
     double E;     /* Jacobi integral qd . dL/dqd - L (= T + V for natural
                      systems) */
-    double P;     /* power of the non-conservative forces:
-                     qd . (-dR/dqd + Q) (<= 0 when only dissipating) */
+    double P;     /* dE/dt: the power of the non-conservative forces
+                     qd . (-dR/dqd + Q) (<= 0 when only dissipating),
+                     plus Pt */
+    double Pt;    /* the part of P due to the explicit time: -dL/dt (at
+                     fixed q, qd), plus lambda . (C qd), the power of the
+                     constraint forces, when the constraints read the
+                     time (= -lambda . dphi/dt on them); 0 for a model
+                     that does not read the time */
 } eom_energy;
 EOM_API int eom_energy_at(eom_system *s, double t, const double *x,
                           eom_energy *e);
 /* Values of the probes (nprobes values). */
 EOM_API int eom_probes_at(eom_system *s, const double *x, double *p);
 
-/* Project x onto phi(q) = 0 and C qd = 0 with the minimum M-norm
- * correction (Newton iteration on q, until max |phi| <= tol; then one
- * linear correction of qd). A state with max |phi| <= tol and max |C qd|
- * <= tol is left as it is. *iters (may be NULL) receives the number of
+/* Project x onto phi(q) = 0 and C qd = 0 (C qd + dphi/dt = 0 for
+ * constraints that read the time, at the system's time: eom_set_time)
+ * with the minimum M-norm correction (Newton iteration on q, until max
+ * |phi| <= tol; then one linear correction of qd). A state with max |phi|
+ * <= tol and max |C qd| <= tol is left as it is. *iters (may be NULL) receives the number of
  * iterations. EOM_ERR_PROJECTION if it does not converge in 20. During
  * integration the projection after each step uses the factor of M from
  * the step's last evaluation instead of factoring M again. */
@@ -299,7 +337,9 @@ EOM_API int eom_project_start(eom_system *s, double *x, double tol,
  * with eom_equilibrium first. Generalized forces Q are not included.
  * eom_linearize overwrites *lin without freeing it (free an earlier
  * result with eom_linear_free first) and leaves it zeroed on failure.
- * docs/linearization.md has the details. */
+ * A model whose Lagrangian, dissipation or constraints read the time has
+ * no state of rest: EOM_ERR_MODEL. docs/linearization.md has the
+ * details. */
 typedef struct eom_linear {
     int n, nr;       /* coordinates, and independent ones */
     double *M, *K, *D; /* n x n */
@@ -315,8 +355,10 @@ EOM_API void eom_linear_free(eom_linear *lin);
 /* Static equilibrium: from q (n, updated in place), Newton iteration
  * (with a line search) on dL/dq(q, 0) + C^T lambda = 0, phi(q) = 0 with the
  * tape's second derivatives, to max |residual| <= tol. Generalized forces
- * Q are not included. On failure (EOM_ERR_NOT_CONVERGED after 50 steps,
- * or another error) q is restored to the guess. *iters (may be NULL)
+ * Q are not included; a model whose Lagrangian, dissipation or
+ * constraints read the time is refused (EOM_ERR_MODEL). On failure
+ * (EOM_ERR_NOT_CONVERGED after 50 steps, or another error) q is restored
+ * to the guess. *iters (may be NULL)
  * receives the number of Newton steps. */
 EOM_API int eom_equilibrium(eom_system *s, double *q, double tol,
                             int *iters);
@@ -407,7 +449,10 @@ typedef struct eom_integ eom_integ;
 /* An integrator for s from (t0, x0); W, the work done on the system by
  * its non-conservative forces with the sign that makes E + W constant
  * (W >= 0 is the energy dissipated), starts at 0 and is integrated beside
- * the state. The integrator borrows s. A run's numbers depend only on its
+ * the state: dW/dt = -P (eom_energy). For a model that reads the time, W
+ * also holds the energy taken out by the explicit time dependence and
+ * the moving constraints (-Pt), so E + W stays constant, but W may then
+ * have either sign. The integrator borrows s. A run's numbers depend only on its
  * inputs (s's parameters, the options, t0, x0), not on what s evaluated
  * before: the same run on s or on a clone of it gives the same bits. */
 EOM_API int eom_integ_new(eom_integ **out, eom_system *s, const eom_opts *o,
