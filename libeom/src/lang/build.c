@@ -516,6 +516,8 @@ static int run_others(lang_inst *in, const eom_model *m, const double *x)
         c.m = m;
         c.n = n;
         c.role = (eom_role)roles[k];
+        c.time_as = EOM_TIME_INDEP;
+        c.time_index = 2 * n;
         a.c = &c;
         a.in = in;
         a.role = roles[k];
@@ -536,11 +538,11 @@ static int run_others(lang_inst *in, const eom_model *m, const double *x)
  * one Hessian-vector product each. */
 static int check_mass(lang_inst *in, const eom_model *m, const double *x0)
 {
-    const int n = m->n_coords;
-    unsigned char *group = malloc(2 * (size_t)n);
-    double *x = malloc(2 * (size_t)n * sizeof *x);
-    double *S = calloc(2 * (size_t)n, sizeof *S);
-    double *HS = malloc(2 * (size_t)n * sizeof *HS);
+    const int n = m->n_coords, nx = 2 * n + 1; /* (q, qd, t) */
+    unsigned char *group = malloc((size_t)nx);
+    double *x = malloc((size_t)nx * sizeof *x);
+    double *S = calloc((size_t)nx, sizeof *S);
+    double *HS = malloc((size_t)nx * sizeof *HS);
     unsigned char *zero = malloc((size_t)n);
     const double w = 1.0;
     tp_rec *r = NULL;
@@ -551,13 +553,13 @@ static int check_mass(lang_inst *in, const eom_model *m, const double *x0)
         lang_fail(in, 0, NULL, "out of memory");
         goto done;
     }
-    for (k = 0; k < 2 * n; k++)
-        group[k] = (unsigned char)(k < n ? 0 : 1);
+    for (k = 0; k < nx; k++)
+        group[k] = (unsigned char)(k < n ? 0 : k < 2 * n ? 1 : 2);
     for (i = 0; i < n; i++) {
         S[n + i] = 1.0 + 0.618 * (double)((i * 7919) % 97) / 97.0;
         zero[i] = 1;
     }
-    if (tp_recorder_new(&r, 2 * n, group, NULL) != TP_OK) {
+    if (tp_recorder_new(&r, nx, group, NULL) != TP_OK) {
         lang_fail(in, 0, NULL, "out of memory");
         goto done;
     }
@@ -575,7 +577,7 @@ static int check_mass(lang_inst *in, const eom_model *m, const double *x0)
         goto done;
     }
     for (pass = 0; pass < 2; pass++) {
-        for (k = 0; k < 2 * n; k++)
+        for (k = 0; k < nx; k++)
             x[k] = x0[k] + (pass ? 0.137 + 0.071 * (k % 11) : 0.0);
         /* a non-finite value is a question for the run, not for here */
         if (tp_hvp(ws, x, &w, 1, S, NULL, HS) < 0) {

@@ -223,8 +223,8 @@ static int coord_ref(lang_inst *in, const node *nd, lval *out)
     }
     if (nd->ref == R_RATE && in->role == EOM_ROLE_CONSTRAINT) {
         lang_fail(in, nd->tok,
-                  "holonomic constraints phi(q) = 0 depend on the "
-                  "coordinates only",
+                  "holonomic constraints phi(q, t) = 0 depend on the "
+                  "coordinates and the time only",
                   "the rate %s_dot cannot appear in %s", y->name, in->what);
         return -1;
     }
@@ -417,11 +417,14 @@ static int name_ref(lang_inst *in, const node *nd, lval *out)
         *out = konst((double)in->ival[nd->sym]);
         return 0;
     case R_TIME:
-        if (!in->r || in->role != EOM_ROLE_FORCE) {
+        /* T, V, L, R, forces, constraints and probes may all read it;
+         * what is fixed when the file is read cannot */
+        if (!in->r) {
             lang_fail(in, nd->tok,
-                      "energies and constraints cannot depend on time "
-                      "explicitly; a force can: force x = F0*cos(w*t)",
-                      "the time t cannot appear in %s", in->what);
+                      "the time t may appear in T, V, L, R, forces, "
+                      "constraints and probes",
+                      "the time t cannot be used here: %s must be known "
+                      "when the file is read", in->what);
             return -1;
         }
         *out = tape(eom_time(in->ctx));
