@@ -35,6 +35,7 @@ static void case_list(void)
     CHECK_HAS(r.out, "cart-pole");
     CHECK_HAS(r.out, "four-bar");
     CHECK_HAS(r.out, "four-bar linkage");
+    CHECK_HAS(r.out, "driven-crank");
     result_free(&r);
 }
 

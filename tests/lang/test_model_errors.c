@@ -80,6 +80,12 @@ static const err_case cases[] = {
     {"time in an initial value",
      "units off\nparam m = 1\ncoord x = 2*t\nT = 1/2*m*x_dot^2\n", 3, 13,
      "the time t cannot be used here", "constraints and probes"},
+    {"time in the wrong units", HEAD "T = 1/2*m*x_dot^2\nV = m*x*t\n", 4, 1,
+     "the potential energy V is in kg m s, not in kg m^2 s^-2 (J)", NULL},
+    {"time without a rate in a function",
+     HEAD "coord y = 0 [m]\nT = 1/2*m*(x_dot^2 + y_dot^2)\n"
+     "constraint c = x - sin(t)\n", 5, 20, "sin() needs a pure number, not s",
+     NULL},
     {"time in a parameter's default",
      "param m = 1 + t [kg]\ncoord x = 0 [m]\nT = 1/2*m*x_dot^2\n", 1, 15,
      "the time t cannot be used here", "T, V, L, R"},
