@@ -110,6 +110,9 @@ void ensemble_worker_run(worker *w, long i, run_result *r)
         snprintf(r->msg, sizeof r->msg, "t_end = %g is not >= 0", t_end);
         goto out;
     }
+    /* every run starts at t = 0: the worker's system was left at the end
+     * of its previous run (a model that reads the time sees it) */
+    eom_set_time(w->s, 0.0);
     /* a start off the constraints is projected, as eom-run does */
     if (m > 0 && o.project) {
         double pmax = 0.0, vmax = 0.0;

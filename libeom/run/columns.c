@@ -156,6 +156,9 @@ int eom_run_columns_fill(eom_run_columns *c, eom_system *s, double t,
     info->phi_max = info->phidot_max = 0.0;
     c->msg[0] = '\0';
 
+    /* the calls below without a t argument evaluate at the row's time (a
+     * non-finite t is refused here and reported by eom_energy_at) */
+    (void)eom_set_time(s, t);
     rc = eom_energy_at(s, t, x, &info->e);
     if (rc < 0) {
         status = row_fail(c, s, status, rc);

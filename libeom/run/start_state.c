@@ -18,6 +18,9 @@ int eom_run_prepare_start(eom_system *s, double *x, const eom_opts *o,
     int k, iters = 0, rc;
     if (m == 0)
         return 0;
+    /* a run starts at t = 0: constraints that read the time are checked
+     * there */
+    eom_set_time(s, 0.0);
     phi = malloc(2 * (size_t)m * sizeof(double));
     if (!phi) {
         fprintf(stderr, "%s: out of memory\n", prog);

@@ -3,7 +3,9 @@
  * of a system, a run of the spring pendulum written by eom_run and read
  * back with eom_csv_table_read, row for row equal to the same RK4 steps
  * taken here with eom_integ_advance and with energies equal to the
- * hand-written T and V, and the errors of the writer and the reader. */
+ * hand-written T and V, and the errors of the writer and the reader; a
+ * model that reads the time checked at the start of a run (t = 0) and
+ * in a row (the row's time), whatever time its system was left at. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
@@ -146,6 +148,56 @@ static void run_spring(const char *dir)
     eom_system_free(&s);
 }
 
+/* A bead on a rod turned at w: the constraint th - w t reads the time, and
+ * a probe is the time itself. */
+static const char rod[] =
+    "units off\nparam m = 0.5\nparam w = 2\ncoord r = 1 rate 0.1\n"
+    "coord th = 0 rate 2\nT = 1/2*m*(r_dot^2 + r^2*th_dot^2)\n"
+    "constraint drive = th - w*t\nprobe clock = t\n";
+
+static void timed_rows(void)
+{
+    char err[2048];
+    eom_model *m = NULL;
+    eom_system *s = NULL;
+    eom_run_columns *cols = NULL;
+    eom_run_opts o;
+    eom_run_row_info info;
+    double x[4], x0[4], row[16];
+    int k;
+    CHECK(eom_model_from_string(&m, rod, err, sizeof err) == EOM_OK);
+    CHECK(eom_system_new(&s, m, err, sizeof err) == EOM_OK);
+    eom_model_free(&m);
+    if (!s)
+        return;
+    eom_run_opts_default(&o);
+    /* the start is on the constraint at t = 0, not at the 5 s where the
+     * system was left: nothing to project */
+    CHECK(eom_initial_state(s, x) == EOM_OK);
+    memcpy(x0, x, sizeof x);
+    CHECK(eom_set_time(s, 5.0) == EOM_OK);
+    CHECK_INT(eom_run_prepare_start(s, x, &o.opts, "test", "rod"), 0);
+    for (k = 0; k < 4; k++)
+        CHECK(x[k] == x0[k]);
+    /* a row at t = 0.5 of the state on the rod then, with the system left
+     * at 7 s: residuals and the probe at the row's time */
+    CHECK(eom_run_columns_new(&cols, s, 0, err, sizeof err) == 0);
+    if (cols && cols->count <= 16) {
+        x[1] = 2.0 * 0.5;
+        CHECK(eom_set_time(s, 7.0) == EOM_OK);
+        CHECK_INT(eom_run_columns_fill(cols, s, 0.5, x, 0.0, row, &info),
+                  EOM_OK);
+        /* t, r, th, r_dot, th_dot, T, V, E, W, phi1, phidot1, clock */
+        CHECK_INT(cols->count, 12);
+        CHECK(strcmp(cols->names[11], "clock") == 0);
+        CHECK_NEAR(row[9], 0.0, 1e-15);
+        CHECK_NEAR(row[10], 0.0, 1e-15);
+        CHECK_NEAR(row[11], 0.5, 1e-15);
+    }
+    eom_run_columns_free(&cols);
+    eom_system_free(&s);
+}
+
 int main(void)
 {
     char dir[] = "/tmp/test_run_api.XXXXXX";
@@ -156,6 +208,7 @@ int main(void)
     numbers();
     grid();
     run_spring(dir);
+    timed_rows();
     rmdir(dir);
     CHECK_DONE();
 }

@@ -124,7 +124,7 @@ typedef struct eom_run_columns {
 typedef struct eom_run_row_info {
     eom_energy e;      /* energies at the row's state (NaN if not computed) */
     double phi_max;    /* max |phi_k|, 0 without constraints */
-    double phidot_max; /* max |(C qd)_k| */
+    double phidot_max; /* max |(C qd + dphi/dt)_k| */
 } eom_run_row_info;
 
 /* The columns of s (borrowed; only read) with the optional groups extra
@@ -181,9 +181,11 @@ EOM_API int eom_run(eom_system *s, const double *x0, const eom_run_opts *o,
                     eom_csv_writer *w);
 
 /* Check, and project when o->project is set, the start x (2n values,
- * updated in place) of a constrained system with tolerance o->proj_tol:
- * if max |phi| or max |C qd| exceeds it, x is projected onto phi = 0 and
- * C qd = 0 by the least change of the coordinates (eom_project_start)
+ * updated in place) of a constrained system with tolerance o->proj_tol,
+ * at t = 0, where eom_run starts (the system's time is set to 0,
+ * eom_set_time): if max |phi| or max |C qd + dphi/dt| exceeds it, x is
+ * projected onto phi = 0 and C qd + dphi/dt = 0 by the least change of
+ * the coordinates (eom_project_start)
  * and one line on standard error says so; with o->project off a warning
  * says that the run starts off the constraints. Returns 0 (x is the state
  * to start from), or 1 after a message. prog and label as in
