@@ -206,7 +206,17 @@ int eom__nonconservative(eom_system *s, double t, const double *x);
  * tape has no time independent (after giving the time to its parameter,
  * if it has one), else a copy of x's first tindex values followed by t in
  * et->xt. */
-const double *eom__tape_input(eom_tape *et, const double *x, double t);
+const double *eom__tape_input_timed(eom_tape *et, const double *x,
+                                    double t);
+/* The same, inline for the tapes without the time (every tape of most
+ * models): they cost one test. */
+static inline const double *eom__tape_input(eom_tape *et, const double *x,
+                                            double t)
+{
+    if (et->tindex < 0 && et->tparam < 0)
+        return x;
+    return eom__tape_input_timed(et, x, t);
+}
 /* rheonomic.c: phi, C qd + dphi/dt and -gamma's curvature part
  * d2phi/ds2 along (q + s qd, t + s) at (t, x) into phi (may be NULL),
  * phid and curv (m each): one Taylor sweep. */

@@ -16,7 +16,7 @@
 
 #include "eom_internal.h"
 
-const double *eom__tape_input(eom_tape *et, const double *x, double t)
+const double *eom__tape_input_timed(eom_tape *et, const double *x, double t)
 {
     /* a parameter change makes the next sweep recompute the passive ops:
      * only when the time did change */
