@@ -52,8 +52,8 @@ int eom__refuse_time(eom_system *s, const char *what)
     if (s->tL.tindex < 0 && s->tR.tparam < 0 && s->tphi.tindex < 0)
         return EOM_OK;
     return eom__fail(s, EOM_ERR_MODEL,
-                     "%s: the model's %s reads the time (a rheonomic model "
-                     "has no state of rest)", what,
+                     "%s: the time appears in the model's %s (a rheonomic "
+                     "model has no state of rest)", what,
                      s->tL.tindex >= 0   ? "Lagrangian"
                      : s->tphi.tindex >= 0 ? "constraints"
                                            : "dissipation");

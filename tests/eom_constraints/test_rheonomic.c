@@ -716,7 +716,8 @@ int main(void)
     pair_runs(p);
     /* no state of rest: refused, with the reason */
     CHECK_INT(eom_linearize(h, q, &lin), EOM_ERR_MODEL);
-    CHECK(strstr(eom_system_errmsg(h), "reads the time") != NULL);
+    CHECK(strstr(eom_system_errmsg(h), "the time appears in the model's "
+                                       "constraints") != NULL);
     CHECK_INT(eom_equilibrium(h, q, 1e-10, NULL), EOM_ERR_MODEL);
     eom_system_free(&h);
     eom_system_free(&r);
