@@ -181,6 +181,8 @@ done:
         run_summary_print(&r.sum, stderr, PROG(p), LABEL(p),
                           eom_method_name(p->opts.method),
                           have_stats ? &st : NULL,
+                          eom_system_reads_time(s) ? "C qd + dphi/dt"
+                                                   : "C qd",
                           eom_system_nconstraints(s),
                           progress_clock() - wall0);
     eom_integ_free(&it);

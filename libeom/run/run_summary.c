@@ -33,6 +33,7 @@ void run_summary_add(run_summary *r, double t, double W,
 void run_summary_print(const run_summary *r, FILE *f, const char *prog,
                        const char *label,
                        const char *method, const eom_stats *st,
+                       const char *vel,
                        int nconstraints, double wall)
 {
     eom_stats zero;
@@ -54,9 +55,9 @@ void run_summary_print(const run_summary *r, FILE *f, const char *prog,
         fprintf(f, "  energy drift max |E + W - E0| = %.3g (energy scale "
                 "zero: no relative drift)\n", r->drift);
     if (nconstraints > 0) {
-        fprintf(f, "  constraint residual max |phi| = %.3g, max |C qd| = "
+        fprintf(f, "  constraint residual max |phi| = %.3g, max |%s| = "
                 "%.3g, projections %ld\n",
-                fmax(r->phi_max, st->max_residual), r->phidot_max,
+                fmax(r->phi_max, st->max_residual), vel, r->phidot_max,
                 st->projections);
         fprintf(f, "  constraint system: smallest rcond %.3g, %ld SVD "
                 "solve%s%s\n", st->min_rcond_S, st->svd_solves,

@@ -33,11 +33,13 @@ void run_summary_add(run_summary *r, double t, double W,
                      const eom_run_row_info *info);
 
 /* The report on f: label (the demo) and method name, st (NULL when no
- * integrator was created), nconstraints of the system, wall the total
- * wall time in seconds. */
+ * integrator was created), nconstraints of the system, vel the name of
+ * its velocity residual ("C qd", or "C qd + dphi/dt" for a model that
+ * reads the time), wall the total wall time in seconds. */
 void run_summary_print(const run_summary *r, FILE *f, const char *prog,
                        const char *label,
                        const char *method, const eom_stats *st,
+                       const char *vel,
                        int nconstraints, double wall);
 
 #endif /* APPS_RUN_SUMMARY_H */

@@ -14,6 +14,7 @@ int eom_run_prepare_start(eom_system *s, double *x, const eom_opts *o,
         prog = "eom_run";
     if (!label)
         label = "model";
+    const char *vel = eom_system_reads_time(s) ? "C qd + dphi/dt" : "C qd";
     double *phi, *phidot, pmax = 0.0, vmax = 0.0;
     int k, iters = 0, rc;
     if (m == 0)
@@ -42,9 +43,9 @@ int eom_run_prepare_start(eom_system *s, double *x, const eom_opts *o,
         return 0;
     if (!o->project) {
         fprintf(stderr, "%s: %s: warning: the initial state is off the "
-                "constraints (max |phi| = %.3g, max |C qd| = %.3g, tolerance "
+                "constraints (max |phi| = %.3g, max |%s| = %.3g, tolerance "
                 "%.3g) and --no-project is given: the run starts off the "
-                "constraints\n", prog, label, pmax, vmax, o->proj_tol);
+                "constraints\n", prog, label, pmax, vel, vmax, o->proj_tol);
         return 0;
     }
     /* the least change of the coordinates the user gave (not the least
@@ -53,15 +54,15 @@ int eom_run_prepare_start(eom_system *s, double *x, const eom_opts *o,
     rc = eom_project_start(s, x, o->proj_tol, &iters);
     if (rc != EOM_OK) {
         fprintf(stderr, "%s: %s: the initial state is off the "
-                "constraints (max |phi| = %.3g, max |C qd| = %.3g) and "
-                "cannot be projected onto them: %s\n", prog, label, pmax, vmax,
-                eom_system_errmsg(s));
+                "constraints (max |phi| = %.3g, max |%s| = %.3g) and "
+                "cannot be projected onto them: %s\n", prog, label, pmax, vel,
+                vmax, eom_system_errmsg(s));
         return 1;
     }
     fprintf(stderr, "%s: %s: the initial state is off the constraints "
-            "(max |phi| = %.3g, max |C qd| = %.3g, tolerance %.3g): "
-            "projected onto phi = 0 and C qd = 0 by the least change of the "
-            "coordinates (%d iteration%s on q)\n", prog, label, pmax, vmax,
-            o->proj_tol, iters, iters == 1 ? "" : "s");
+            "(max |phi| = %.3g, max |%s| = %.3g, tolerance %.3g): "
+            "projected onto phi = 0 and %s = 0 by the least change of the "
+            "coordinates (%d iteration%s on q)\n", prog, label, pmax, vel,
+            vmax, o->proj_tol, vel, iters, iters == 1 ? "" : "s");
     return 0;
 }
