@@ -1,0 +1,155 @@
+/* mujoco_chain.c - the rigid chain as an MJCF model built in memory and
+ * loaded through MuJoCo's virtual file system (see mujoco_chain.h). */
+#include "mujoco_chain.h"
+
+#include <mujoco/mujoco.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+struct mujoco_chain {
+    int N;
+    mjModel *m;
+    mjData *d;
+};
+
+/* Append to buf (size cap, used *len); 0, or -1 when it is full. */
+static int put(char *buf, size_t cap, size_t *len, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
+static int put(char *buf, size_t cap, size_t *len, const char *fmt, ...)
+{
+    va_list ap;
+    int k;
+    va_start(ap, fmt);
+    k = vsnprintf(buf + *len, cap - *len, fmt, ap);
+    va_end(ap);
+    if (k < 0 || (size_t)k >= cap - *len)
+        return -1;
+    *len += (size_t)k;
+    return 0;
+}
+
+/* The MJCF text: body j hangs at the tip of body j - 1 (x = L[j-1] in its
+ * frame); its hinge turns about -y, so a positive angle turns +x towards
+ * +z (our +y); the rod's centre of mass is at L/2 on its x axis, its
+ * inertia about the hinge's axis m L^2 / 12 at the centre (the other two
+ * axes only need to be positive). */
+static char *mjcf(int N, const double *m, const double *L, double g)
+{
+    const size_t cap = 4096 + (size_t)N * 512;
+    char *buf = malloc(cap);
+    size_t len = 0;
+    int j, bad = 0;
+    if (!buf)
+        return NULL;
+    bad |= put(buf, cap, &len,
+               "<mujoco model=\"chain\">\n"
+               "  <compiler angle=\"radian\" inertiafromgeom=\"false\"/>\n"
+               "  <option gravity=\"0 0 %.17g\">\n"
+               "    <flag contact=\"disable\"/>\n"
+               "  </option>\n"
+               "  <worldbody>\n", -g);
+    for (j = 0; j < N; j++) {
+        const double I = m[j] * L[j] * L[j] / 12.0;
+        bad |= put(buf, cap, &len,
+                   "%*s<body name=\"link%d\" pos=\"%.17g 0 0\">\n"
+                   "%*s  <joint name=\"hinge%d\" type=\"hinge\" "
+                   "axis=\"0 -1 0\" pos=\"0 0 0\"/>\n"
+                   "%*s  <inertial pos=\"%.17g 0 0\" mass=\"%.17g\" "
+                   "diaginertia=\"%.17g %.17g %.17g\"/>\n",
+                   4 + 2 * j, "", j + 1, j ? L[j - 1] : 0.0,
+                   4 + 2 * j, "", j + 1,
+                   4 + 2 * j, "", 0.5 * L[j], m[j], 1e-6 * I, I, I);
+    }
+    for (j = N - 1; j >= 0; j--)
+        bad |= put(buf, cap, &len, "%*s</body>\n", 4 + 2 * j, "");
+    bad |= put(buf, cap, &len, "  </worldbody>\n</mujoco>\n");
+    if (bad) {
+        free(buf);
+        return NULL;
+    }
+    return buf;
+}
+
+mujoco_chain *mujoco_chain_new(int N, const double *m, const double *L,
+                               double g, char *err, int errlen)
+{
+    mujoco_chain *c = calloc(1, sizeof *c);
+    mjVFS *vfs = malloc(sizeof *vfs);
+    char *text = mjcf(N, m, L, g);
+    int k;
+    if (!c || !vfs || !text) {
+        snprintf(err, (size_t)errlen, "out of memory");
+        goto fail;
+    }
+    mj_defaultVFS(vfs);
+    if (mj_makeEmptyFileVFS(vfs, "chain.xml", (int)strlen(text)) != 0 ||
+        (k = mj_findFileVFS(vfs, "chain.xml")) < 0) {
+        snprintf(err, (size_t)errlen, "MuJoCo's file system took no file");
+        goto fail;
+    }
+    memcpy(vfs->filedata[k], text, strlen(text));
+    c->m = mj_loadXML("chain.xml", vfs, err, errlen);
+    mj_deleteVFS(vfs);
+    free(vfs);
+    vfs = NULL;
+    if (!c->m)
+        goto fail;
+    if (c->m->nv != N) {
+        snprintf(err, (size_t)errlen, "the model has %d degrees of "
+                 "freedom, not %d", c->m->nv, N);
+        goto fail;
+    }
+    c->d = mj_makeData(c->m);
+    if (!c->d) {
+        snprintf(err, (size_t)errlen, "mj_makeData failed");
+        goto fail;
+    }
+    c->N = N;
+    free(text);
+    return c;
+fail:
+    if (vfs) {
+        mj_deleteVFS(vfs);
+        free(vfs);
+    }
+    free(text);
+    mujoco_chain_free(c);
+    return NULL;
+}
+
+void mujoco_chain_free(mujoco_chain *c)
+{
+    if (!c)
+        return;
+    if (c->d)
+        mj_deleteData(c->d);
+    if (c->m)
+        mj_deleteModel(c->m);
+    free(c);
+}
+
+void mujoco_chain_set(mujoco_chain *c, const double *x)
+{
+    int j;
+    for (j = 0; j < c->N; j++) {
+        c->d->qpos[j] = x[j] - (j ? x[j - 1] : 0.0);
+        c->d->qvel[j] = x[c->N + j] - (j ? x[c->N + j - 1] : 0.0);
+    }
+}
+
+void mujoco_chain_forward(mujoco_chain *c)
+{
+    mj_forward(c->m, c->d);
+}
+
+void mujoco_chain_qdd(const mujoco_chain *c, double *qdd)
+{
+    double sum = 0.0;
+    int j;
+    for (j = 0; j < c->N; j++) {
+        sum += c->d->qacc[j];
+        qdd[j] = sum;
+    }
+}
