@@ -32,44 +32,14 @@
 
 #include "check.h"
 #include "eom_models.h"
+#include "hand_ref.h"
 
+/* the spring pendulum of hand_ref.h */
 static const double M_ = 1.0, K_ = 75.0, R0_ = 1.0, G_ = 9.81, T_END = 10.0;
-
-static void sp_f(const double *y, double *f)
-{
-    const double r = y[0], th = y[1], rd = y[2], thd = y[3];
-    f[0] = rd;
-    f[1] = thd;
-    f[2] = r * thd * thd - K_ / M_ * (r - R0_) + G_ * cos(th);
-    f[3] = -(2.0 * rd * thd + G_ * sin(th)) / r;
-}
-
-static void rk4_hand(long steps, double *y)
-{
-    const double h = T_END / (double)steps;
-    long i;
-    int e;
-    for (i = 0; i < steps; i++) {
-        double k1[4], k2[4], k3[4], k4[4], z[4];
-        sp_f(y, k1);
-        for (e = 0; e < 4; e++) z[e] = y[e] + 0.5 * h * k1[e];
-        sp_f(z, k2);
-        for (e = 0; e < 4; e++) z[e] = y[e] + 0.5 * h * k2[e];
-        sp_f(z, k3);
-        for (e = 0; e < 4; e++) z[e] = y[e] + h * k3[e];
-        sp_f(z, k4);
-        for (e = 0; e < 4; e++)
-            y[e] += h / 6.0 * (k1[e] + 2 * k2[e] + 2 * k3[e] + k4[e]);
-    }
-}
 
 static double max_diff(const double *a, const double *b)
 {
-    double d = 0.0;
-    int e;
-    for (e = 0; e < 4; e++)
-        d = fmax(d, fabs(a[e] - b[e]));
-    return d;
+    return hand_max_diff(4, a, b);
 }
 
 /* the state at T_END by method m; steps taken in *steps */
@@ -235,8 +205,8 @@ int main(void)
     /* the reference, and a bound on its own error */
     for (i = 0; i < 4; i++)
         ref2[i] = ref[i];
-    rk4_hand(400000, ref);
-    rk4_hand(800000, ref2);
+    hand_rk4(hand_spring, T_END, 400000, ref);
+    hand_rk4(hand_spring, T_END, 800000, ref2);
     printf("reference: h and h/2 differ by %.3g\n", max_diff(ref, ref2));
     CHECK(max_diff(ref, ref2) < 1e-12);
 

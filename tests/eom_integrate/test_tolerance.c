@@ -7,7 +7,7 @@
  *   spring-pendulum   reference: the hand-derived equations
  *                       r''  = r th'^2 - (k/m)(r - r0) + g cos th,
  *                       th'' = -(2 r' th' + g sin th) / r
- *                     by classical RK4 here;
+ *                     (hand_ref.c) by classical RK4;
  *   double-pendulum   point masses m1 = m2 = 1 on rods l1 = l2 = 1, angles
  *                     from the downward vertical; reference: the hand-
  *                     derived equations (with d = th1 - th2)
@@ -15,7 +15,7 @@
  *                           = -m2 l2 sin d th2'^2 - (m1 + m2) g sin th1,
  *                       l1 cos d th1'' + l2 th2'' = l1 sin d th1'^2
  *                           - g sin th2,
- *                     by classical RK4 here;
+ *                     (hand_ref.c) by classical RK4;
  *   open-chain        three flexible beams, two modes each (about 100
  *                     periods of the fastest mode in 10 s): no hand
  *                     equations, so the reference is erk at a per-step
@@ -43,21 +43,10 @@
 
 #include "check.h"
 #include "eom/model_file.h"
+#include "hand_ref.h"
 
 #define T_END 10.0
 #define NMAX 32
-
-typedef void (*hand_f)(const double *y, double *f);
-
-static void spring_f(const double *y, double *f)
-{
-    const double k = 75.0, r0 = 1.0, g = 9.81; /* m = 1 */
-    const double r = y[0], th = y[1], rd = y[2], thd = y[3];
-    f[0] = rd;
-    f[1] = thd;
-    f[2] = r * thd * thd - k * (r - r0) + g * cos(th);
-    f[3] = -(2.0 * rd * thd + g * sin(th)) / r;
-}
 
 static void double_f(const double *y, double *f)
 {
@@ -76,32 +65,9 @@ static void double_f(const double *y, double *f)
     f[3] = (a11 * b2 - a21 * b1) / det;
 }
 
-static void rk4_hand(hand_f fn, long steps, double *y)
-{
-    const double h = T_END / (double)steps;
-    long i;
-    int e;
-    for (i = 0; i < steps; i++) {
-        double k1[4], k2[4], k3[4], k4[4], z[4];
-        fn(y, k1);
-        for (e = 0; e < 4; e++) z[e] = y[e] + 0.5 * h * k1[e];
-        fn(z, k2);
-        for (e = 0; e < 4; e++) z[e] = y[e] + 0.5 * h * k2[e];
-        fn(z, k3);
-        for (e = 0; e < 4; e++) z[e] = y[e] + h * k3[e];
-        fn(z, k4);
-        for (e = 0; e < 4; e++)
-            y[e] += h / 6.0 * (k1[e] + 2 * k2[e] + 2 * k3[e] + k4[e]);
-    }
-}
-
 static double max_diff(int len, const double *a, const double *b)
 {
-    double d = 0.0;
-    int e;
-    for (e = 0; e < len; e++)
-        d = fmax(d, fabs(a[e] - b[e]));
-    return d;
+    return hand_max_diff(len, a, b);
 }
 
 static long last_steps; /* accepted steps of the latest run() */
@@ -267,8 +233,8 @@ static void hand_model(const char *dir, const char *name, hand_f fn)
     CHECK_INT(eom_initial_state(s, ref), EOM_OK);
     for (e = 0; e < 4; e++)
         ref2[e] = ref[e];
-    rk4_hand(fn, 400000, ref);
-    rk4_hand(fn, 200000, ref2);
+    hand_rk4(fn, T_END, 400000, ref);
+    hand_rk4(fn, T_END, 200000, ref2);
     printf("%s: reference at h and 2h differ by %.3g\n", name,
            max_diff(4, ref, ref2));
     CHECK(max_diff(4, ref, ref2) < 1e-12); /* error about 1/15 of it */
@@ -286,7 +252,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "usage: %s MODELS_DIR\n", argv[0]);
         return 2;
     }
-    hand_model(argv[1], "spring-pendulum", spring_f);
+    hand_model(argv[1], "spring-pendulum", hand_spring);
     hand_model(argv[1], "double-pendulum", double_f);
 
     if ((s = load(argv[1], "open-chain")) != NULL) {
