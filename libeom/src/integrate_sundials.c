@@ -75,7 +75,7 @@ int eom__sun_failed(eom_integ *it, const eom_sun_report *r,
     /* a failed callback is the cause; otherwise the solver's own error */
     const int status = r->cb_status != EOM_OK ? r->cb_status : EOM_ERR_SOLVER;
     const char *why = r->cb_status != EOM_OK ? r->cb_msg : r->sun_msg;
-    char guess[EOM_MSG_LEN];
+    char guess[3 * EOM_MSG_LEN];
     if (!why[0]) {
         /* the solver gave no reason: say what the run's figures suggest */
         if (it->s->m > 0 && it->s->rcond_S_min < 1e-3)
@@ -89,6 +89,17 @@ int eom__sun_failed(eom_integ *it, const eom_sun_report *r,
                      "point its steps cannot pass (a discontinuity, a "
                      "singularity or a domain edge of the model) is the "
                      "likely cause (docs/troubleshooting.md)");
+        why = guess;
+    }
+    if (why != guess && it->s->m > 0 && status == EOM_ERR_SOLVER) {
+        /* the solver's own reason; with constraints the health of their
+         * solve says whether a singular position is the likely cause */
+        snprintf(guess, sizeof guess, "%s (constraint system's smallest "
+                 "rcond so far %.2g%s)", why, it->s->rcond_S_min,
+                 it->s->rcond_S_min < 1e-3
+                     ? ": a singular position or redundant constraints are "
+                       "the likely cause"
+                     : "");
         why = guess;
     }
     eom__integ_fail(it, status, "%s: %s at t = %.17g: %s", method,
