@@ -48,6 +48,13 @@ void run_summary_print(const run_summary *r, FILE *f, const char *prog,
             st->jac_evals);
     fprintf(f, "  wall time %.3g s (integrator %.3g s)\n", wall,
             st->wall_time);
+    if (st->tol_reachable > 0.0)
+        fprintf(f, "  tolerance: tighter than %s allows this method's error "
+                "test; it keeps the error near %.2g instead (docs/"
+                "integrators.md, \"What the tolerances mean\")\n",
+                nconstraints > 0 ? "a model with constraints"
+                                 : "double precision",
+                st->tol_reachable);
     if (r->scale > 0.0)
         fprintf(f, "  energy drift max |E + W - E0| = %.3g, relative %.3g "
                 "(scale %.6g)\n", r->drift, r->drift / r->scale, r->scale);

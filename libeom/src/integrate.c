@@ -70,40 +70,85 @@ int eom__integ_max_order(const eom_integ *it)
  * needs no mapping: its table advances with the higher-order solution of
  * its pair, and its error stays within 100 tol.
  *
- * Below 1e-15 the corrector's rounding errors decide the error test.
- * With constraints, the multipliers' filter near singular positions
- * (docs/theory.md) makes the accelerations smooth only to about 1e-11:
- * bdf through a parallelogram's flat passes fails its error test with
- * per-step tolerances of 1e-11 and below (tests/eom_constraints/
- * test_parallelogram.c), so a constrained model's per-step tolerance
- * stays at 1e-10 or above (or the caller's own, if tighter). */
+ * Below about 2.2e-16 (the unit roundoff) CVODE and IDA refuse a
+ * relative tolerance outright (TOO_MUCH_ACC), and near it their error
+ * tests judge rounding: the floor is 3e-16. A run that needs 10^5 steps
+ * (bdf at 1e-12 on the open chain wants 8e-17 per step) then cannot
+ * hold its global error near tol, since the per-step errors it adds up
+ * cannot be made small enough in double precision; eom_stats.tol_reachable
+ * says so (measured on the open chain at 1e-12: per-step floors of 1e-15,
+ * 5e-16, 3e-16 and 2e-16 give 144, 156, 84 and 42 tol: rounding, not
+ * the tolerance, decides there).
+ * With constraints:
+ *   bdf   near a singular position (and throughout with redundant
+ *         constraints) the multipliers' filter (docs/theory.md) makes the
+ *         accelerations smooth only to about 1e-11, and bdf fails its
+ *         error test there with per-step tolerances of 1e-11 and below
+ *         (tests/eom_constraints/test_parallelogram.c); there, and only
+ *         there, its floor is 1e-10 (it->loose_floor, integrate_cvode.c).
+ *   ida   restarts at order 1 from the state projected at output times
+ *         (to proj_tol, 1e-12); below a per-step tolerance of 1e-12 its
+ *         first steps fail the error test repeatedly (the closed chain at
+ *         1e-10 stopped at t = 4.9 with a floor of 1e-14): 1e-12.
+ *   adams refuses singular positions; its floor is the unconstrained one.
+ * A single floor of 1e-10 for every constrained model held the closed
+ * chain's error at 1.8e-6 for bdf at every tol from 1e-8 down. */
 static double step_tol_floor(const eom_integ *it)
 {
-    return it->s->m > 0 ? 1e-10 : 1e-15;
+    if (it->s->m > 0 && it->o.method == EOM_IDA)
+        return 1e-12;
+    if (it->s->m > 0 && it->loose_floor)
+        return 1e-10;
+    return 3e-16;
+}
+
+/* c of the calibration c tol^((p+1)/p), or 0 where there is none */
+static double calibration(const eom_integ *it)
+{
+    if (it->o.tol_per_step)
+        return 0.0;
+    switch (it->o.method) {
+    case EOM_ADAMS:
+        return 0.03;
+    case EOM_BDF:
+        return 0.02;
+    case EOM_IDA:
+        return 0.05;
+    default:
+        return 0.0;
+    }
+}
+
+/* the calibration was measured at the methods' own highest orders; a
+ * lower max_order keeps it (docs/integrators.md) */
+static double exponent(const eom_integ *it)
+{
+    const int p = eom__integ_top_order(it->o.method);
+    return (p + 1.0) / p;
 }
 
 double eom__integ_step_tol(const eom_integ *it, double tol)
 {
-    /* the calibration was measured at the methods' own highest orders;
-     * a lower max_order keeps it (docs/integrators.md) */
-    const int p = eom__integ_top_order(it->o.method);
-    double c;
-    if (it->o.tol_per_step)
+    const double c = calibration(it);
+    if (c == 0.0)
         return tol;
-    switch (it->o.method) {
-    case EOM_ADAMS:
-        c = 0.03;
-        break;
-    case EOM_BDF:
-        c = 0.02;
-        break;
-    case EOM_IDA:
-        c = 0.05;
-        break;
-    default:
-        return tol;
-    }
-    return fmin(tol, fmax(step_tol_floor(it), c * pow(tol, (p + 1.0) / p)));
+    return fmin(tol, fmax(step_tol_floor(it), c * pow(tol, exponent(it))));
+}
+
+double eom__integ_tol_reachable(const eom_integ *it)
+{
+    /* bdf's loose floor counts if it was ever used */
+    const double floor = it->was_loose ? 1e-10 : step_tol_floor(it);
+    const double c = calibration(it);
+    double tol = fmin(it->o.rtol, it->o.atol), reach;
+    int i;
+    if (c == 0.0)
+        return 0.0;
+    for (i = 0; it->atolv && i < 2 * it->n; i++)
+        tol = fmin(tol, it->atolv[i]);
+    /* the tolerance whose per-step tolerance is the floor */
+    reach = pow(floor / c, 1.0 / exponent(it));
+    return c * pow(tol, exponent(it)) < floor ? reach : 0.0;
 }
 
 void eom__integ_atol(const eom_integ *it, double *atol, int len)
@@ -390,6 +435,10 @@ int eom_integ_stats(const eom_integ *it, eom_stats *st)
     st->svd_solves = it->s->n_svd - it->svd_base;
     st->branch_switches = eom__branch_switches(
         it->branch, &st->first_branch_switch, &st->singular_passes);
+    st->step_tol = it->o.method == EOM_RK4
+                       ? 0.0
+                       : eom__integ_step_tol(it, it->o.rtol);
+    st->tol_reachable = eom__integ_tol_reachable(it);
     it->ops->stats(it, st);
     return EOM_OK;
 }

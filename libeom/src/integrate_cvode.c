@@ -137,6 +137,31 @@ static int cv_project(sunrealtype t, N_Vector ycur, N_Vector corr,
     return cv_cb_result(it, c, rc);
 }
 
+/* The error weights 1 / (rtol |y_i| + atol_i) with the per-step
+ * tolerances of the moment: bdf with constraints changes its floor during
+ * the run (cv_floor), which CVODE's own weights cannot follow (in
+ * SUNDIALS 6.4, CVodeSStolerances between steps leaves the weight
+ * function without its data until the next CVodeReInit). */
+static int cv_ewt(N_Vector y, N_Vector ewt, void *user)
+{
+    eom_integ *it = user;
+    const double *Y = N_VGetArrayPointer(y);
+    double *w = N_VGetArrayPointer(ewt);
+    const double rtol = eom__integ_step_tol(it, it->o.rtol);
+    const double atol = eom__integ_step_tol(it, it->o.atol);
+    int i;
+    for (i = 0; i < it->N; i++) {
+        const double a = it->atolv && i < 2 * it->n
+                             ? eom__integ_step_tol(it, it->atolv[i])
+                             : atol;
+        const double d = rtol * fabs(Y[i]) + a;
+        if (!(d > 0.0))
+            return -1;
+        w[i] = 1.0 / d;
+    }
+    return 0;
+}
+
 /* A failed setup call: a status and a message naming it. */
 static int cv_setup_failed(eom_integ *it, int flag, const char *call)
 {
@@ -228,8 +253,11 @@ static int cv_init(eom_integ *it)
         return cv_setup_failed(it, flag, "CVodeInit");
     if ((flag = CVodeSetUserData(c->mem, it)) < 0)
         return cv_setup_failed(it, flag, "CVodeSetUserData");
-    flag = eom__sun_tolerances(it, c->mem, c->ctx, N, CVodeSStolerances,
-                               CVodeSVtolerances);
+    if (it->o.method == EOM_BDF && it->s->m > 0)
+        flag = CVodeWFtolerances(c->mem, cv_ewt);
+    else
+        flag = eom__sun_tolerances(it, c->mem, c->ctx, N, CVodeSStolerances,
+                                   CVodeSVtolerances);
     if (flag == 1)
         return eom__integ_nomem(it);
     if (flag < 0)
@@ -291,6 +319,32 @@ static int cv_output(eom_integ *it, cvode *c, double tout)
     return EOM_OK;
 }
 
+/* bdf with constraints: the per-step tolerance follows the condition of
+ * the constraint system (integrate.c, step_tol_floor): loose from the
+ * first accepted step whose last evaluation had rcond of C M^-1 C^T below
+ * 1e-2, tight again above 0.1. cv_ewt reads it at every step. */
+static void cv_floor(eom_integ *it, int loose)
+{
+    it->loose_floor = loose;
+    it->was_loose |= loose;
+}
+
+/* bdf failed a step near a singular position with the tight per-step
+ * tolerance: again from the last accepted step (tret, c->y) with the
+ * loose one. Returns a status. */
+static int cv_retry_loose(eom_integ *it, cvode *c, double tret, double tout)
+{
+    int flag;
+    cv_bank(c);
+    cv_floor(it, 1);
+    if ((flag = CVodeReInit(c->mem, tret, c->y)) < 0)
+        return cv_setup_failed(it, flag, "CVodeReInit");
+    if ((flag = CVodeSetStopTime(c->mem, tout)) < 0)
+        return cv_setup_failed(it, flag, "CVodeSetStopTime");
+    eom__sun_report_reset(&c->rep);
+    return EOM_OK;
+}
+
 static int cv_advance(eom_integ *it, double tout)
 {
     cvode *c = it->impl;
@@ -306,13 +360,26 @@ static int cv_advance(eom_integ *it, double tout)
     } else if (flag >= 0) {
         /* step by step: each accepted step's state is checked for a
          * jump to another assembly branch */
+        const int bdf = it->o.method == EOM_BDF;
         do {
             flag = CVode(c->mem, tout, c->y, &tret, CV_ONE_STEP);
+            if (flag < 0 && bdf && !it->loose_floor &&
+                (flag == CV_ERR_FAILURE || flag == CV_CONV_FAILURE) &&
+                it->s->rcond_S < 1e-2) {
+                if ((status = cv_retry_loose(it, c, tret, tout)) != EOM_OK)
+                    return eom__integ_fail(it, status, "%s: %s",
+                                           cv_name(it), it->msg);
+                flag = CV_SUCCESS;
+                continue;
+            }
             if (flag >= 0 && (status = eom__integ_branch(
                                   it, tret, N_VGetArrayPointer(c->y))) !=
                                  EOM_OK)
                 return eom__integ_fail(it, status, "%s: %s", cv_name(it),
                                        it->msg);
+            if (flag >= 0 && bdf)
+                cv_floor(it, it->s->rcond_S <
+                                 (it->loose_floor ? 0.1 : 1e-2));
         } while (flag == CV_SUCCESS && tret < tout);
     }
     CVodeGetCurrentTime(c->mem, &tcur);

@@ -49,6 +49,10 @@ struct eom_integ {
     int refuse_singular; /* adams, ida with constraints: an evaluation at
                             a singular or redundant constraint system is
                             an error (eom__integ_rhs) */
+    int loose_floor;     /* bdf with constraints, near a singular position:
+                            the per-step tolerance floor is 1e-10
+                            (integrate.c) */
+    int was_loose;       /* loose_floor was set at some time */
 };
 
 /* The highest order of a variable-order method (adams 12, bdf and ida
@@ -62,6 +66,10 @@ int eom__integ_max_order(const eom_integ *it);
  * erk; for adams, bdf and ida the tighter tolerance calibrated to keep
  * the global error near tol (docs/integrators.md). */
 double eom__integ_step_tol(const eom_integ *it, double tol);
+/* eom_stats.tol_reachable: where a calibrated tolerance (rtol, atol or
+ * an atol_vec entry) wanted a per-step tolerance below the floor, the
+ * tolerance that the floor is calibrated for; else 0. */
+double eom__integ_tol_reachable(const eom_integ *it);
 
 /* The per-step absolute tolerance of each of the len components of a
  * solver's unknowns: from atol_vec for the first 2n (q, qd) when given,

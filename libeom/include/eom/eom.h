@@ -442,6 +442,19 @@ typedef struct eom_stats {
                               integrators.md, "Singular positions"); the
                               run goes on */
     double first_branch_switch; /* the time of the first (0 if none) */
+    /* what the error test was given (docs/integrators.md, "What the
+     * tolerances mean"): */
+    double step_tol;     /* the per-step relative tolerance for rtol:
+                            calibrated for adams, bdf and ida, rtol itself
+                            for erk (and with tol_per_step), 0 for rk4 */
+    double tol_reachable; /* 0, or the tolerance the method keeps
+                            instead of a tighter one asked for: its
+                            calibration wanted a per-step tolerance below
+                            what double precision allows (3e-16; with
+                            constraints 1e-12 for ida, 1e-10 for bdf near
+                            singular positions) and held it at that floor,
+                            which keeps the global error near this value
+                            rather than near rtol and atol */
 } eom_stats;
 
 typedef struct eom_integ eom_integ;
