@@ -80,6 +80,10 @@ void run_summary_print(const run_summary *r, FILE *f, const char *prog,
         else
             fprintf(f, "  singular positions passed %ld, branch switches 0\n",
                     st->singular_passes);
+        if (st->singular_handovers > 0)
+            fprintf(f, "  singular stretches handed to bdf %ld (%s cannot "
+                    "pass them; it restarts after each)\n",
+                    st->singular_handovers, method);
     } else {
         fprintf(f, "  constraint residual: none (no constraints)\n");
     }

@@ -47,7 +47,23 @@ struct eom_branch {
     long passes;    /* singular neighbourhoods passed */
     long switches;
     double first;
+    struct eom_branch *mark; /* a copy at the last output, or NULL */
 };
+
+/* the state that a run repeated from the mark must find again */
+static void copy_state(eom_branch *to, const eom_branch *from)
+{
+    const size_t n = (size_t)from->n;
+    memcpy(to->prev, from->prev, 2 * n * sizeof(double));
+    memcpy(to->qd0, from->qd0, n * sizeof(double));
+    memcpy(to->acc, from->acc, n * sizeof(double));
+    memcpy(to->qdd, from->qdd, n * sizeof(double));
+    to->t_prev = from->t_prev;
+    to->in_pass = from->in_pass;
+    to->passes = from->passes;
+    to->switches = from->switches;
+    to->first = from->first;
+}
 
 /* The numerical rank of C (m x n, row-major) by complete pivoting, its
  * rows scaled by their length at the start (so that the constraints'
@@ -103,19 +119,17 @@ void eom__branch_free(eom_branch **b)
     free((*b)->qd0);
     free((*b)->acc);
     free((*b)->qdd);
+    eom__branch_free(&(*b)->mark);
     free(*b);
     *b = NULL;
 }
 
-int eom__branch_new(eom_branch **out, eom_system *s, double t,
-                    const double *x)
+/* A monitor for m constraints on n coordinates, its arrays allocated. */
+static eom_branch *branch_alloc(int m, int n)
 {
-    const int m = s->m, n = s->n;
     eom_branch *b = calloc(1, sizeof *b);
-    int rc, i, j;
-    *out = NULL;
     if (!b)
-        return EOM_ERR_NOMEM;
+        return NULL;
     b->m = m;
     b->n = n;
     b->a = malloc((size_t)m * (size_t)n * sizeof(double));
@@ -126,11 +140,21 @@ int eom__branch_new(eom_branch **out, eom_system *s, double t,
     b->qd0 = malloc((size_t)n * sizeof(double));
     b->acc = malloc((size_t)n * sizeof(double));
     b->qdd = malloc((size_t)n * sizeof(double));
-    if (!b->a || !b->scale || !b->rp || !b->cp || !b->prev || !b->qd0 || !b->acc ||
-        !b->qdd) {
+    if (!b->a || !b->scale || !b->rp || !b->cp || !b->prev || !b->qd0 ||
+        !b->acc || !b->qdd)
         eom__branch_free(&b);
+    return b;
+}
+
+int eom__branch_new(eom_branch **out, eom_system *s, double t,
+                    const double *x)
+{
+    const int m = s->m, n = s->n;
+    eom_branch *b = branch_alloc(m, n);
+    int rc, i, j;
+    *out = NULL;
+    if (!b)
         return EOM_ERR_NOMEM;
-    }
     if ((rc = eom__constraints_at(s, t, x)) != EOM_OK) {
         eom__branch_free(&b);
         return rc;
@@ -201,6 +225,20 @@ int eom__branch_check(eom_branch *b, eom_system *s, double t,
     memcpy(b->prev, x, 2 * (size_t)n * sizeof(double));
     b->t_prev = t;
     return EOM_OK;
+}
+
+int eom__branch_mark(eom_branch *b)
+{
+    if (!b->mark && !(b->mark = branch_alloc(b->m, b->n)))
+        return EOM_ERR_NOMEM;
+    copy_state(b->mark, b);
+    return EOM_OK;
+}
+
+void eom__branch_rewind(eom_branch *b)
+{
+    if (b->mark)
+        copy_state(b, b->mark);
 }
 
 long eom__branch_switches(const eom_branch *b, double *first,

@@ -199,6 +199,15 @@ int eom__integ_rhs(eom_integ *it, double t, const double *y, double *yd)
     return EOM_OK;
 }
 
+int eom__integ_stretch_done(eom_integ *it)
+{
+    const double r = it->s->rcond_S;
+    if (r < 1e-3)
+        it->seen_singular = 1;
+    it->stretch_over = it->seen_singular && r > 1e-2;
+    return it->stretch_over;
+}
+
 int eom__integ_branch(eom_integ *it, double t, const double *y)
 {
     int rc;
@@ -300,27 +309,21 @@ static int check_opts(const eom_opts *o, int n, char *msg, size_t len)
     return bad ? EOM_ERR_ARG : EOM_OK;
 }
 
-int eom_integ_new(eom_integ **out, eom_system *s, const eom_opts *o,
-                  double t0, const double *x0)
+int eom__integ_create(eom_integ **out, eom_system *s, const eom_opts *o,
+                      double t0, const double *y0, int fresh)
 {
     eom_integ *it;
     int rc;
-    if (!out)
-        return EOM_ERR_NULL;
     *out = NULL;
-    if (!s || !o || !x0)
-        return EOM_ERR_NULL;
     if ((rc = check_opts(o, s->n, s->msg, sizeof s->msg)) != EOM_OK)
         return rc;
-    if (!isfinite(t0) || !eom__finite(x0, 2 * (size_t)s->n))
-        return eom__fail(s, EOM_ERR_NONFINITE,
-                         "the initial state is not finite");
     it = calloc(1, sizeof *it);
     if (!it)
         return EOM_ERR_NOMEM;
     /* a run's numbers depend on its own inputs, not on what s evaluated
      * before it (an ensemble runs many on one system, in any order) */
-    eom__forget(s);
+    if (fresh)
+        eom__forget(s);
     it->s = s;
     it->o = *o;
     /* nothing borrowed outlives this call */
@@ -340,20 +343,21 @@ int eom_integ_new(eom_integ **out, eom_system *s, const eom_opts *o,
     it->N = 2 * s->n + 1;
     it->t = t0;
     it->ops = ops_of(o->method);
-    it->y = calloc((size_t)it->N, sizeof(double));
+    it->y = malloc((size_t)it->N * sizeof(double));
     if (!it->y) {
         free(it->atolv);
         free(it);
         return EOM_ERR_NOMEM;
     }
-    memcpy(it->y, x0, 2 * (size_t)s->n * sizeof(double));
+    memcpy(it->y, y0, (size_t)it->N * sizeof(double));
     s->time = t0;
-    s->rcond_S_min = 1.0;
+    if (fresh)
+        s->rcond_S_min = 1.0;
     it->svd_base = s->n_svd;
     it->refuse_singular =
         s->m > 0 && (o->method == EOM_ADAMS || o->method == EOM_IDA);
     rc = it->ops->init(it);
-    if (rc == EOM_OK && it->refuse_singular) {
+    if (rc == EOM_OK && fresh && it->refuse_singular) {
         /* refused at setup where the start already shows it */
         double *yd = malloc((size_t)it->N * sizeof(double));
         rc = yd ? eom__integ_rhs(it, t0, it->y, yd) : EOM_ERR_NOMEM;
@@ -361,8 +365,11 @@ int eom_integ_new(eom_integ **out, eom_system *s, const eom_opts *o,
             snprintf(it->msg, sizeof it->msg, "out of memory");
         free(yd);
     }
-    if (rc == EOM_OK && s->m > 0) {
+    /* a handover borrows the monitor of the integrator it works for */
+    if (rc == EOM_OK && fresh && s->m > 0) {
         rc = eom__branch_new(&it->branch, s, t0, it->y);
+        if (rc == EOM_OK)
+            rc = eom__branch_mark(it->branch);
         if (rc != EOM_OK)
             snprintf(it->msg, sizeof it->msg, "%s",
                      rc == EOM_ERR_NOMEM ? "out of memory" : s->msg);
@@ -377,6 +384,30 @@ int eom_integ_new(eom_integ **out, eom_system *s, const eom_opts *o,
     return EOM_OK;
 }
 
+int eom_integ_new(eom_integ **out, eom_system *s, const eom_opts *o,
+                  double t0, const double *x0)
+{
+    double *y0;
+    int rc;
+    if (!out)
+        return EOM_ERR_NULL;
+    *out = NULL;
+    if (!s || !o || !x0)
+        return EOM_ERR_NULL;
+    if ((rc = check_opts(o, s->n, s->msg, sizeof s->msg)) != EOM_OK)
+        return rc;
+    if (!isfinite(t0) || !eom__finite(x0, 2 * (size_t)s->n))
+        return eom__fail(s, EOM_ERR_NONFINITE,
+                         "the initial state is not finite");
+    /* W starts at 0 */
+    if (!(y0 = calloc(2 * (size_t)s->n + 1, sizeof(double))))
+        return EOM_ERR_NOMEM;
+    memcpy(y0, x0, 2 * (size_t)s->n * sizeof(double));
+    rc = eom__integ_create(out, s, o, t0, y0, 1);
+    free(y0);
+    return rc;
+}
+
 void eom_integ_free(eom_integ **it)
 {
     if (!it || !*it)
@@ -385,7 +416,9 @@ void eom_integ_free(eom_integ **it)
         (*it)->ops->destroy(*it);
     free((*it)->y);
     free((*it)->atolv);
-    eom__branch_free(&(*it)->branch);
+    if (!(*it)->branch_borrowed)
+        eom__branch_free(&(*it)->branch);
+    eom_integ_free(&(*it)->sub);
     free(*it);
     *it = NULL;
 }
@@ -414,7 +447,14 @@ int eom_integ_advance(eom_integ *it, double tout, double *x, double *W)
         return EOM_ERR_ARG;
     }
     t0 = now();
-    rc = it->ops->advance(it, tout);
+    rc = it->sub ? eom__integ_handover(it, tout)
+                 : it->ops->advance(it, tout);
+    if (rc == EOM_ERR_RANK_DEFICIENT && it->refuse_singular && !it->sub)
+        rc = eom__integ_handover(it, tout);
+    /* where a handover would begin */
+    if (rc == EOM_OK && it->branch && !it->branch_borrowed &&
+        eom__branch_mark(it->branch) != EOM_OK)
+        rc = eom__integ_fail(it, EOM_ERR_NOMEM, "out of memory");
     it->st.wall_time += now() - t0;
     /* the calls without a t argument now see the state returned */
     it->s->time = it->t;
@@ -440,5 +480,22 @@ int eom_integ_stats(const eom_integ *it, eom_stats *st)
                        : eom__integ_step_tol(it, it->o.rtol);
     st->tol_reachable = eom__integ_tol_reachable(it);
     it->ops->stats(it, st);
+    /* what bdf and the method's earlier instances did (handovers) */
+    st->steps += it->handed.steps;
+    st->failures += it->handed.failures;
+    st->jac_evals += it->handed.jac_evals;
+    if (it->sub) {
+        /* a stretch still under way */
+        eom_stats b;
+        memset(&b, 0, sizeof b);
+        it->sub->ops->stats(it->sub, &b);
+        st->steps += b.steps;
+        st->failures += b.failures;
+        st->jac_evals += b.jac_evals;
+        st->rhs_evals += it->sub->st.rhs_evals;
+        st->projections += it->sub->st.projections;
+        st->max_residual = fmax(st->max_residual, it->sub->st.max_residual);
+    }
+    st->singular_handovers = it->handovers;
     return EOM_OK;
 }

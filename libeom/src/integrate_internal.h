@@ -53,6 +53,17 @@ struct eom_integ {
                             the per-step tolerance floor is 1e-10
                             (integrate.c) */
     int was_loose;       /* loose_floor was set at some time */
+    /* adams and ida hand a singular stretch to a bdf integrator
+     * (integrate_handover.c): */
+    int handing;         /* this is that bdf: stop after the stretch */
+    int seen_singular;   /* handing: the stretch's singular part met */
+    int stretch_over;    /* handing: stopped after it */
+    struct eom_integ *sub; /* that bdf, while a stretch goes on across
+                              output times */
+    int branch_borrowed; /* branch belongs to the integrator handing over */
+    long handovers;      /* stretches handed over */
+    eom_stats handed;    /* counts of the bdf runs and of the method's
+                            instances before each restart */
 };
 
 /* The highest order of a variable-order method (adams 12, bdf and ida
@@ -99,6 +110,12 @@ long eom__branch_switches(const eom_branch *b, double *first,
                           long *passes);
 void eom__branch_free(eom_branch **b);
 
+/* Remember the monitor as it is (at an output time), and go back to what
+ * was remembered: a run repeated from there (a handover, integrate_
+ * handover.c) counts its passes once. */
+int eom__branch_mark(eom_branch *b);
+void eom__branch_rewind(eom_branch *b);
+
 /* After an accepted step at (t, y): the branch check, with a message in
  * it->msg on failure. A no-op without constraints. */
 int eom__integ_branch(eom_integ *it, double t, const double *y);
@@ -114,6 +131,23 @@ int eom__integ_fail(eom_integ *it, int status, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)))
 #endif
     ;
+
+/* An integrator from (t0, y0), y0 holding q, qd and W (N values). With
+ * fresh, s forgets its earlier evaluations and its run counters start
+ * over (eom_integ_new); without, they go on (a handover). */
+int eom__integ_create(eom_integ **out, eom_system *s, const eom_opts *o,
+                      double t0, const double *y0, int fresh);
+
+/* handing: after an accepted step, 1 when the singular stretch is behind
+ * (rcond of C M^-1 C^T has been below 1e-3 and is above 1e-2 again). */
+int eom__integ_stretch_done(eom_integ *it);
+
+/* adams, ida: the advance to tout failed with EOM_ERR_RANK_DEFICIENT at
+ * a singular position after setup, or a stretch handed over earlier goes
+ * on (it->sub): integrate the stretch with bdf from (it->t, it->y), and
+ * after it restart the method and go on to tout. A status
+ * (integrate_handover.c). */
+int eom__integ_handover(eom_integ *it, double tout);
 
 /* ---- what the SUNDIALS methods share (integrate_sundials.c) ---------- */
 

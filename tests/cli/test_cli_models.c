@@ -313,6 +313,17 @@ static void case_health(void)
     CHECK_HAS(r.err, "branch switches 0");
     CHECK(number_after(r.err, "singular positions passed ") ==
           (double)flats);
+    CHECK(strstr(r.err, "handed to bdf") == NULL);
+    result_free(&r);
+    /* adams hands each flat pass to bdf, and the summary counts them */
+    args[8] = "adams";
+    run(&r, args);
+    CHECK_INT(r.status, 0);
+    CHECK(number_after(r.err, "singular positions passed ") ==
+          (double)flats);
+    CHECK(number_after(r.err, "singular stretches handed to bdf ") ==
+          (double)flats);
+    CHECK_HAS(r.err, "branch switches 0");
     free(c.v);
     free(text);
     result_free(&r);

@@ -442,6 +442,11 @@ typedef struct eom_stats {
                               integrators.md, "Singular positions"); the
                               run goes on */
     double first_branch_switch; /* the time of the first (0 if none) */
+    long singular_handovers; /* adams, ida: singular stretches that bdf
+                                integrated for them, the method restarting
+                                after each (docs/integrators.md,
+                                "Singular positions"); the counts above
+                                include bdf's */
     /* what the error test was given (docs/integrators.md, "What the
      * tolerances mean"): */
     double step_tol;     /* the per-step relative tolerance for rtol:
