@@ -184,6 +184,7 @@ int eom__integ_rhs(eom_integ *it, double t, const double *y, double *yd)
         return rc;
     }
     if (it->refuse_singular && s->m > 0 && s->S_pinv) {
+        it->t_refused = t;
         snprintf(it->msg, sizeof it->msg,
                  "at t = %.17g the constraint system is singular or nearly "
                  "so (rcond of C M^-1 C^T %.2g): a singular position or "
@@ -199,12 +200,14 @@ int eom__integ_rhs(eom_integ *it, double t, const double *y, double *yd)
     return EOM_OK;
 }
 
-int eom__integ_stretch_done(eom_integ *it)
+int eom__integ_stretch_done(eom_integ *it, double t)
 {
     const double r = it->s->rcond_S;
     if (r < 1e-3)
         it->seen_singular = 1;
-    it->stretch_over = it->seen_singular && r > 1e-2;
+    /* past where the method was refused, even if no accepted step of
+     * bdf's came as close to the singular position */
+    it->stretch_over = (it->seen_singular || t > it->t_refused) && r > 1e-2;
     return it->stretch_over;
 }
 

@@ -380,7 +380,7 @@ static int cv_advance(eom_integ *it, double tout)
             if (flag >= 0 && bdf)
                 cv_floor(it, it->s->rcond_S <
                                  (it->loose_floor ? 0.1 : 1e-2));
-            if (flag >= 0 && it->handing && eom__integ_stretch_done(it)) {
+            if (flag >= 0 && it->handing && eom__integ_stretch_done(it, tret)) {
                 /* the stretch is behind: the method handing over
                  * takes over again here */
                 it->t = tret;

@@ -49,6 +49,7 @@ static int start(eom_integ *it)
                                eom_method_name(it->o.method), it->t,
                                it->s->msg);
     b->handing = 1;
+    b->t_refused = it->t_refused;
     b->branch = it->branch;
     b->branch_borrowed = 1;
     eom__branch_rewind(it->branch);

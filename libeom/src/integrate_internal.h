@@ -58,6 +58,8 @@ struct eom_integ {
     int handing;         /* this is that bdf: stop after the stretch */
     int seen_singular;   /* handing: the stretch's singular part met */
     int stretch_over;    /* handing: stopped after it */
+    double t_refused;    /* the time of the evaluation refused last (adams,
+                            ida), and handing: the method's */
     struct eom_integ *sub; /* that bdf, while a stretch goes on across
                               output times */
     int branch_borrowed; /* branch belongs to the integrator handing over */
@@ -138,9 +140,10 @@ int eom__integ_fail(eom_integ *it, int status, const char *fmt, ...)
 int eom__integ_create(eom_integ **out, eom_system *s, const eom_opts *o,
                       double t0, const double *y0, int fresh);
 
-/* handing: after an accepted step, 1 when the singular stretch is behind
- * (rcond of C M^-1 C^T has been below 1e-3 and is above 1e-2 again). */
-int eom__integ_stretch_done(eom_integ *it);
+/* handing: after an accepted step at t, 1 when the singular stretch is
+ * behind: rcond of C M^-1 C^T is above 1e-2, and it has been below 1e-3
+ * at an accepted step or t is past it->t_refused. */
+int eom__integ_stretch_done(eom_integ *it, double t);
 
 /* adams, ida: the advance to tout failed with EOM_ERR_RANK_DEFICIENT at
  * a singular position after setup, or a stretch handed over earlier goes

@@ -1,6 +1,6 @@
 /* test_parallelogram.c - a parallelogram linkage whose crank turns over
  * and over, through the flat position (constraint Jacobian losing rank)
- * twice a revolution, with every integrator, in two formulations:
+ * twice a revolution, with every integrator, in three formulations:
  *
  *   angles   three cranks (length a, pins at (0,0), (d,0), (2d,0),
  *            absolute angles th1, th2, th3) and one coupler (length 2d,
@@ -10,6 +10,11 @@
  *   points   two cranks, tips P1 = (x1, y1), P2 = (x2, y2) as coordinates,
  *            |P1| = a, |P2 - (d,0)| = a, |P2 - P1| = d: 4 coordinates, 3
  *            constraints of rank 3, rank 2 when flat.
+ *   relative two cranks and a coupler of length d as a chain of relative
+ *            (joint) angles: crank 1 at th1 = a, the coupler at a + b,
+ *            crank 2 at a + b + c from the pin at (d,0); the chain's
+ *            end on the second pin: 3 coordinates, 2 constraints of rank
+ *            2, rank 1 when flat.
  * Cranks and coupler are uniform rods (crank mass mc, coupler mass mb),
  * gravity g along -y. On the parallelogram branch every crank has the
  * angle th and the coupler translates, so th obeys the pendulum
@@ -23,9 +28,9 @@
  * rk4, erk and bdf pass. adams and ida cannot by themselves (they
  * project only at output times: adams drifted off the phase, ida's
  * index-1 iteration matrix is singular there and it picked the other
- * branch): they hand each flat pass of the points form to bdf and
- * restart after it, and refuse the angles form's redundant loop at setup,
- * with a message that says why. */
+ * branch): they hand each flat pass of the points and relative forms to
+ * bdf and restart after it, and refuse the angles form's redundant loop
+ * at setup, with a message that says why. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -141,6 +146,58 @@ static int pt_phi(eom_ctx *c, void *user, tp_val *out)
     return 0;
 }
 
+/* ---- relative: a chain of joint angles closed on the second pin ------- */
+
+static int rel_T(eom_ctx *c, void *user, tp_val *out)
+{
+    tp_rec *R = eom_rec(c);
+    tp_val a = eom_q(c, 0), ph = tp_add(R, a, eom_q(c, 1));
+    tp_val wa = eom_qd(c, 0), wp = tp_add(R, wa, eom_qd(c, 1));
+    tp_val w2 = tp_add(R, wp, eom_qd(c, 2));
+    /* coupler centre: a e(th1) + (d / 2) e(ph) */
+    tp_val vx = tp_neg(R, tp_add(R, tp_mulc(R, tp_mul(R, wa, tp_sin(R, a)), A),
+                                 tp_mulc(R, tp_mul(R, wp, tp_sin(R, ph)),
+                                         D / 2)));
+    tp_val vy = tp_add(R, tp_mulc(R, tp_mul(R, wa, tp_cos(R, a)), A),
+                       tp_mulc(R, tp_mul(R, wp, tp_cos(R, ph)), D / 2));
+    tp_val Tc = tp_add(R, tp_mulc(R, tp_add(R, tp_sqr(R, vx), tp_sqr(R, vy)),
+                                  0.5 * MB),
+                       tp_mulc(R, tp_sqr(R, wp), 0.5 * MB * D * D / 12));
+    (void)user;
+    *out = tp_add(R, Tc, tp_add(R, rod_pin_T(R, wa), rod_pin_T(R, w2)));
+    return 0;
+}
+
+static int rel_V(eom_ctx *c, void *user, tp_val *out)
+{
+    tp_rec *R = eom_rec(c);
+    tp_val a = eom_q(c, 0), ph = tp_add(R, a, eom_q(c, 1));
+    tp_val th2 = tp_add(R, ph, eom_q(c, 2));
+    tp_val cranks = tp_mulc(R, tp_add(R, tp_sin(R, a), tp_sin(R, th2)),
+                            G * MC * A / 2);
+    tp_val coupler = tp_mulc(R, tp_add(R, tp_mulc(R, tp_sin(R, a), A),
+                                       tp_mulc(R, tp_sin(R, ph), D / 2)),
+                             G * MB);
+    (void)user;
+    *out = tp_add(R, cranks, coupler);
+    return 0;
+}
+
+static int rel_phi(eom_ctx *c, void *user, tp_val *out)
+{
+    tp_rec *R = eom_rec(c);
+    tp_val a = eom_q(c, 0), ph = tp_add(R, a, eom_q(c, 1));
+    tp_val th2 = tp_add(R, ph, eom_q(c, 2));
+    (void)user;
+    /* a e(th1) + d e(ph) - a e(th2) = (d, 0) */
+    out[0] = tp_addc(R, tp_add(R, tp_mulc(R, tp_sub(R, tp_cos(R, a),
+                                                    tp_cos(R, th2)), A),
+                               tp_mulc(R, tp_cos(R, ph), D)), -D);
+    out[1] = tp_add(R, tp_mulc(R, tp_sub(R, tp_sin(R, a), tp_sin(R, th2)), A),
+                    tp_mulc(R, tp_sin(R, ph), D));
+    return 0;
+}
+
 /* ---- the reference ----------------------------------------------------- */
 
 static void pendulum_f(double I, double Gm, const double *y, double *f)
@@ -184,14 +241,25 @@ static void reference(int k, int nt, double *th, double *thd)
 
 enum { NT = 20 };
 
-static eom_system *make(int points)
+enum form { ANGLES, POINTS, RELATIVE };
+static const char *const form_names[] = {"angles", "points", "relative"};
+
+static eom_system *make(enum form form)
 {
     eom_model *md = NULL;
     eom_system *s = NULL;
     char msg[256];
     if (eom_model_new(&md) != EOM_OK)
         return NULL;
-    if (points) {
+    if (form == RELATIVE) {
+        /* on the branch: b = -th1, c = th1 */
+        eom_model_add_coord(md, "a", "rad", -PI_ / 2, W0);
+        eom_model_add_coord(md, "b", "rad", PI_ / 2, -W0);
+        eom_model_add_coord(md, "c", "rad", -PI_ / 2, W0);
+        eom_model_set_kinetic(md, rel_T, NULL);
+        eom_model_set_potential(md, rel_V, NULL);
+        eom_model_set_constraints(md, 2, rel_phi, NULL);
+    } else if (form == POINTS) {
         eom_model_add_coord(md, "x1", "m", 0.0, A * W0);
         eom_model_add_coord(md, "y1", "m", -A, 0.0);
         eom_model_add_coord(md, "x2", "m", D, A * W0);
@@ -216,10 +284,15 @@ static eom_system *make(int points)
 
 /* The crank angle and rate of a state, and how far it is from the
  * parallelogram branch (other cranks at the same angle, coupler level). */
-static void read_state(int points, const double *x, double *th, double *thd,
-                       double *off)
+static void read_state(enum form form, const double *x, double *th,
+                       double *thd, double *off)
 {
-    if (points) {
+    if (form == RELATIVE) {
+        *th = x[0];
+        *thd = x[3];
+        *off = fmax(fabs(remainder(x[0] + x[1], 2 * PI_)),
+                    fabs(remainder(x[1] + x[2], 2 * PI_)));
+    } else if (form == POINTS) {
         *th = atan2(x[1], x[0]);
         *thd = (x[0] * x[5] - x[1] * x[4]) / (A * A);
         *off = hypot(x[2] - D - x[0], x[3] - x[1]);
@@ -244,13 +317,13 @@ static long flat_passes(const double *th_ref, int nt)
 }
 
 /* method on the linkage with nt output times over T_END */
-static void run(int points, eom_method method, int nt)
+static void run(enum form form, eom_method method, int nt)
 {
-    const int k = points ? 2 : 3;
+    const int k = form == ANGLES ? 3 : 2;
     double *th_ref = malloc((size_t)nt * sizeof(double));
     double *thd_ref = malloc((size_t)nt * sizeof(double));
     double x[8], err = 0.0, off_max = 0.0;
-    eom_system *s = make(points);
+    eom_system *s = make(form);
     eom_integ *it = NULL;
     eom_opts o;
     int j, rc = EOM_OK;
@@ -275,13 +348,13 @@ static void run(int points, eom_method method, int nt)
         rc = eom_integ_advance(it, (j + 1) * T_END / nt, x, NULL);
         if (rc != EOM_OK)
             break;
-        read_state(points, x, &th, &thd, &off);
+        read_state(form, x, &th, &thd, &off);
         err = fmax(err, fmax(fabs(angle_diff(th, th_ref[j])),
                              fabs(thd - thd_ref[j]) / W0));
         off_max = fmax(off_max, off);
     }
     if (rc != EOM_OK)
-        fprintf(stderr, "%s %s: %s: %s\n", points ? "points" : "angles",
+        fprintf(stderr, "%s %s: %s: %s\n", form_names[form],
                 name, eom_status_name(rc),
                 it ? eom_integ_errmsg(it) : eom_system_errmsg(s));
     /* the health figures: the redundant loop makes every solve an SVD
@@ -289,26 +362,40 @@ static void run(int points, eom_method method, int nt)
     if (it) {
         eom_stats st;
         CHECK_INT(eom_integ_stats(it, &st), EOM_OK);
-        CHECK(st.min_rcond_S < 1e-6);
+        /* in joint angles the steps come less close: measured 2.5e-4
+         * (adams) to 3e-6 (erk) */
+        CHECK(st.min_rcond_S < (form == RELATIVE ? 1e-3 : 1e-6));
         CHECK(st.svd_solves > 0);
         /* on the branch through every pass: the monitor agrees */
         printf("%-6s %-5s: %d outputs, %ld singular passes seen, %ld branch "
-               "switches\n", points ? "points" : "angles", name, nt,
+               "switches\n", form_names[form], name, nt,
                st.singular_passes, st.branch_switches);
-        CHECK_INT(st.singular_passes, flat_passes(th_ref, nt));
+        if (form == RELATIVE) {
+            /* here a step of erk's can carry it across the narrower
+             * neighbourhood where C loses rank: 37 of 39 seen */
+            CHECK(st.singular_passes <= flat_passes(th_ref, nt) &&
+                  st.singular_passes >= flat_passes(th_ref, nt) - 3);
+        } else {
+            CHECK_INT(st.singular_passes, flat_passes(th_ref, nt));
+        }
         CHECK_INT(st.branch_switches, 0);
         /* adams and ida hand each flat pass to bdf, once */
         printf("%-6s %-5s: %ld singular stretches handed to bdf\n",
-               points ? "points" : "angles", name, st.singular_handovers);
-        CHECK_INT(st.singular_handovers,
-                  method == EOM_ADAMS || method == EOM_IDA
-                      ? flat_passes(th_ref, nt)
-                      : 0);
-        if (!points)
+               form_names[form], name, st.singular_handovers);
+        if (method != EOM_ADAMS && method != EOM_IDA)
+            CHECK_INT(st.singular_handovers, 0);
+        else if (form == POINTS || method == EOM_ADAMS)
+            CHECK_INT(st.singular_handovers, flat_passes(th_ref, nt));
+        else /* ida's steps pass some by themselves: 32 of 39; the
+              * method takes over again after each (one handover that
+              * never ends would count 1) */
+            CHECK(st.singular_handovers >= flat_passes(th_ref, nt) / 2 &&
+                  st.singular_handovers <= flat_passes(th_ref, nt));
+        if (form == ANGLES)
             CHECK(st.svd_solves >= st.steps);
     }
     printf("%-6s %-5s: max error against the pendulum %.3g, off the "
-           "branch %.3g\n", points ? "points" : "angles", name, err, off_max);
+           "branch %.3g\n", form_names[form], name, err, off_max);
     /* at rtol = atol = 1e-10 the passes cost accuracy: measured 1.3e-9
      * (rk4, dt 1e-3) to 3.8e-6 (bdf, points: its per-step tolerance is
      * 1e-10 near each pass, 3e-16 between them) */
@@ -327,7 +414,7 @@ static void run(int points, eom_method method, int nt)
  * system met (it passes flat within its first second). */
 static void health_regular(void)
 {
-    eom_system *s = make(1);
+    eom_system *s = make(POINTS);
     eom_integ *it = NULL;
     eom_opts o;
     eom_stats st;
@@ -359,7 +446,7 @@ static void health_regular(void)
  * estimate, the cause and the methods that can go on */
 static void refused(eom_method method)
 {
-    eom_system *s = make(0);
+    eom_system *s = make(ANGLES);
     eom_integ *it = NULL;
     eom_opts o;
     double x[8];
@@ -395,15 +482,17 @@ int main(void)
     int m;
     health_regular();
     for (m = 0; m < 3; m++) {
-        run(0, passing[m], NT);
-        run(1, passing[m], NT);
+        run(ANGLES, passing[m], NT);
+        run(POINTS, passing[m], NT);
+        run(RELATIVE, passing[m], NT);
     }
     for (m = 0; m < 2; m++) {
         const eom_method hands = m ? EOM_IDA : EOM_ADAMS;
         refused(hands);
-        run(1, hands, NT);
+        run(POINTS, hands, NT);
+        run(RELATIVE, hands, NT);
         /* outputs every 2 ms: a stretch goes on across several */
-        run(1, hands, 10000);
+        run(POINTS, hands, 10000);
     }
     CHECK_DONE();
 }
