@@ -66,7 +66,8 @@ int eom__integ_max_order(const eom_integ *it)
  * the global error back to the order of tol, with p the method's highest
  * order and c measured on the spring pendulum, the double pendulum and
  * the open chain (tests/eom_integrate/test_tolerance.c). The per-step
- * tolerance never goes above tol, nor below the floor that follows. erk
+ * tolerance never goes above tol, nor below the floor that follows (not
+ * even for a tol below it: the solvers would refuse it, or fail). erk
  * needs no mapping: its table advances with the higher-order solution of
  * its pair, and its error stays within 100 tol.
  *
@@ -132,7 +133,8 @@ double eom__integ_step_tol(const eom_integ *it, double tol)
     const double c = calibration(it);
     if (c == 0.0)
         return tol;
-    return fmin(tol, fmax(step_tol_floor(it), c * pow(tol, exponent(it))));
+    /* never below the floor, even for a tolerance tighter than it */
+    return fmax(step_tol_floor(it), fmin(tol, c * pow(tol, exponent(it))));
 }
 
 double eom__integ_tol_reachable(const eom_integ *it)
@@ -498,7 +500,11 @@ int eom_integ_stats(const eom_integ *it, eom_stats *st)
         st->rhs_evals += it->sub->st.rhs_evals;
         st->projections += it->sub->st.projections;
         st->max_residual = fmax(st->max_residual, it->sub->st.max_residual);
+        st->tol_reachable =
+            fmax(st->tol_reachable, eom__integ_tol_reachable(it->sub));
     }
+    /* the stretches' bdf may have kept less than the method */
+    st->tol_reachable = fmax(st->tol_reachable, it->handed_reach);
     st->singular_handovers = it->handovers;
     return EOM_OK;
 }

@@ -66,6 +66,7 @@ struct eom_integ {
     long handovers;      /* stretches handed over */
     eom_stats handed;    /* counts of the bdf runs and of the method's
                             instances before each restart */
+    double handed_reach; /* the largest tol_reachable of those bdf runs */
 };
 
 /* The highest order of a variable-order method (adams 12, bdf and ida
