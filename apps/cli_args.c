@@ -48,7 +48,7 @@ int cli_integrator_arg(const char *text, eom_method *out)
     int m = eom_method_from_name(text);
     if (m < 0)
         return cli_usage_error("--integrator '%s': unknown integrator "
-                               "(choose rk4, erk, adams, bdf or ida)", text);
+                               "(choose rk4, erk, adams, bdf, ida or esdirk)", text);
     *out = (eom_method)m;
     return 0;
 }

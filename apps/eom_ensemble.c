@@ -122,7 +122,7 @@ static void help(void)
         "                        initial value or rate (as eom-run)\n"
         "  -t, --t-end T         end time of every run, >= 0 (default 10)\n"
         "      --sample DT       rows of the trajectories (default 0.01)\n"
-        "      --integrator M    rk4, erk, adams, bdf or ida (default rk4)\n"
+        "      --integrator M    rk4, erk, adams, bdf, ida or esdirk (default rk4)\n"
         "      --dt H, --rtol R, --atol A, --max-steps N, --no-project\n"
         "                        as for eom-run\n"
         "  -q, --quiet           no progress line and no summary line\n"

@@ -168,7 +168,8 @@ static const double tols[2][2] = {{1e-7, 1e-10}, {1e-6, 1e-6}};
 static void stiff(int quick)
 {
     static const double factors[2] = {1e2, 1e4};
-    static const eom_method methods[3] = {EOM_BDF, EOM_IDA, EOM_ADAMS};
+    static const eom_method methods[4] = {EOM_BDF, EOM_IDA, EOM_ESDIRK,
+                                          EOM_ADAMS};
     const double t_end = quick ? 0.1 : 2.0;
     int f, k, tl;
     for (f = 0; f < 2; f++) {
@@ -186,7 +187,7 @@ static void stiff(int quick)
                  factors[f]);
         row(name, "bdf 1e-12, 1e-15 (reference)", &ref, -1);
         for (tl = 0; tl < 2; tl++)
-            for (k = 0; k < 3; k++) {
+            for (k = 0; k < 4; k++) {
                 char meth[48];
                 snprintf(meth, sizeof meth, "%s %g, %g",
                          eom_method_name(methods[k]), tols[tl][0],

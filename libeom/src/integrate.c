@@ -11,18 +11,19 @@
 
 #include "integrate_internal.h"
 
-static const char *const method_names[] = {"rk4", "erk", "adams", "bdf",
-                                           "ida"};
+static const char *const method_names[] = {"rk4", "erk",  "adams",
+                                           "bdf", "ida",  "esdirk"};
+#define METHODS (int)(sizeof method_names / sizeof method_names[0])
 
 const char *eom_method_name(eom_method m)
 {
-    return (unsigned)m < 5 ? method_names[m] : "unknown";
+    return (unsigned)m < (unsigned)METHODS ? method_names[m] : "unknown";
 }
 
 int eom_method_from_name(const char *name)
 {
     int i;
-    for (i = 0; name && i < 5; i++)
+    for (i = 0; name && i < METHODS; i++)
         if (strcmp(name, method_names[i]) == 0)
             return i;
     return -1;
@@ -115,6 +116,8 @@ static double calibration(const eom_integ *it)
         return 0.02;
     case EOM_IDA:
         return 0.05;
+    case EOM_ESDIRK:
+        return 0.05;
     default:
         return 0.0;
     }
@@ -124,7 +127,10 @@ static double calibration(const eom_integ *it)
  * lower max_order keeps it (docs/integrators.md) */
 static double exponent(const eom_integ *it)
 {
-    const int p = eom__integ_top_order(it->o.method);
+    /* esdirk: order 5, one order */
+    const int p = it->o.method == EOM_ESDIRK
+                      ? 5
+                      : eom__integ_top_order(it->o.method);
     return (p + 1.0) / p;
 }
 
@@ -270,6 +276,7 @@ static const eom_integ_ops *ops_of(eom_method m)
     case EOM_ADAMS:
     case EOM_BDF: return &eom__cvode_ops;
     case EOM_IDA: return &eom__ida_ops;
+    case EOM_ESDIRK: return &eom__esdirk_ops;
     default: return NULL;
     }
 }

@@ -203,5 +203,6 @@ extern const eom_integ_ops eom__rk4_ops;
 extern const eom_integ_ops eom__erk_ops;
 extern const eom_integ_ops eom__cvode_ops; /* Adams and BDF */
 extern const eom_integ_ops eom__ida_ops;
+extern const eom_integ_ops eom__esdirk_ops;
 
 #endif /* EOM_INTEGRATE_INTERNAL_H */

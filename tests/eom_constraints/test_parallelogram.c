@@ -487,10 +487,11 @@ int main(void)
 {
     /* the methods that pass through the flat positions; adams and ida
      * hand them to bdf, and refuse the redundant loop */
-    static const eom_method passing[] = {EOM_RK4, EOM_ERK, EOM_BDF};
+    static const eom_method passing[] = {EOM_RK4, EOM_ERK, EOM_BDF,
+                                         EOM_ESDIRK};
     int m;
     health_regular();
-    for (m = 0; m < 3; m++) {
+    for (m = 0; m < 4; m++) {
         run(ANGLES, passing[m], NT);
         run(POINTS, passing[m], NT);
         run(RELATIVE, passing[m], NT);

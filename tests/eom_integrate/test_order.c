@@ -123,7 +123,7 @@ static double osc_error(eom_system *s, eom_method m, double rtol,
 static void tolerances(void)
 {
     static const eom_method adaptive[] = {EOM_ERK, EOM_ADAMS, EOM_BDF,
-                                          EOM_IDA};
+                                          EOM_IDA, EOM_ESDIRK};
     eom_model *md = NULL;
     eom_system *s = NULL;
     char msg[256];
@@ -136,7 +136,7 @@ static void tolerances(void)
     eom_model_free(&md);
     if (!s)
         return;
-    for (i = 0; i < 4; i++) {
+    for (i = 0; i < 5; i++) {
         const double ea = osc_error(s, adaptive[i], 1e-12, 1e-3);
         const double er = osc_error(s, adaptive[i], 1e-3, 1e-12);
         printf("%-5s: error %.3g with atol 1e-3 governing, %.3g with rtol "
@@ -149,7 +149,7 @@ static void tolerances(void)
     }
     /* atol_vec: equal to atol everywhere is the scalar run; loose for x
      * and its rate is a looser run than tight */
-    for (i = 0; i < 4; i++) {
+    for (i = 0; i < 5; i++) {
         const double same[2] = {1e-3, 1e-3}, loose[2] = {1e-1, 1e-1};
         const double tight[2] = {1e-5, 1e-5};
         double xs[2], xv[2], el, et;
@@ -240,6 +240,19 @@ int main(void)
     printf("erk: observed order %.2f (nominal 6)\n", p);
     CHECK(p > 5.5);
     verner_steps = xs[4];
+
+    /* esdirk: error against steps (nominal 5, the ARK5(4)8L[2]SA DIRK) */
+    for (i = 0; i < 5; i++) {
+        const double tol = pow(10.0, -6 - i);
+        CHECK_INT(run(s, EOM_ESDIRK, 0.0, tol, x, &steps), EOM_OK);
+        xs[i] = (double)steps;
+        err[i] = max_diff(x, ref2);
+        printf("esdirk tol %-6g steps %6ld error %.3g (%.3g x tol)\n", tol,
+               steps, err[i], err[i] / tol);
+    }
+    p = -slope(5, xs, err);
+    printf("esdirk: observed order %.2f (nominal 5)\n", p);
+    CHECK(p > 4.5);
 
     /* erk: tolerance proportionality down to 1e-12 */
     for (i = 0; i < 4; i++) {

@@ -163,6 +163,8 @@ static int expect_floor(const char *model, eom_method m, double tol)
         return 0.02 * pow(tol, 1.2) < 3e-16;
     case EOM_IDA:
         return 0.05 * pow(tol, 1.2) < (closed ? 1e-12 : 3e-16);
+    case EOM_ESDIRK:
+        return 0.05 * pow(tol, 1.2) < 3e-16;
     default:
         return 0;
     }
@@ -172,11 +174,11 @@ static int expect_floor(const char *model, eom_method m, double tol)
 static void check_model(const char *name, eom_system *s, const double *ref)
 {
     static const eom_method adaptive[] = {EOM_ERK, EOM_ADAMS, EOM_BDF,
-                                          EOM_IDA};
+                                          EOM_IDA, EOM_ESDIRK};
     const int len = 2 * eom_system_ncoords(s);
     double x[NMAX], errs[4], steps[4];
     int i, k;
-    for (i = 0; i < 4; i++) {
+    for (i = 0; i < 5; i++) {
         printf("%-15s %-5s error / tol:", name, eom_method_name(adaptive[i]));
         for (k = 0; k < 4; k++) {
             const double tol = pow(10.0, -6 - 2 * k);

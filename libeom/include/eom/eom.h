@@ -370,7 +370,9 @@ typedef enum eom_method {
     EOM_ERK,   /* ARKODE ERKStep, adaptive explicit, Verner 6(5), 8 stages */
     EOM_ADAMS, /* CVODE Adams-Moulton, fixed-point iteration */
     EOM_BDF,   /* CVODE BDF, Newton iteration with a dense Jacobian */
-    EOM_IDA    /* IDA on the index-1 form (see docs/integrators.md) */
+    EOM_IDA,   /* IDA on the index-1 form (see docs/integrators.md) */
+    EOM_ESDIRK /* ARKODE ARKStep, an implicit, L-stable ESDIRK 5(4) for
+                  stiff models (see docs/integrators.md) */
 } eom_method;
 
 /* Name as used on the command line ("rk4", "erk", "adams", "bdf", "ida")
@@ -399,9 +401,9 @@ typedef struct eom_opts {
                                integrators.md lists them); NULL (default):
                                "ARKODE_VERNER_8_5_6"; copied */
     int tol_per_step; /* 0 (default): rtol and atol are targets for the
-                         global error, and adams, bdf and ida are handed
-                         the tighter per-step tolerances calibrated to
-                         meet them (docs/integrators.md, "What the
+                         global error, and adams, bdf, ida and esdirk
+                         are handed the tighter per-step tolerances
+                         calibrated to meet them (docs/integrators.md, "What the
                          tolerances mean"); 1: every method gets rtol and
                          atol as given, for its own per-step error test */
     int max_order;    /* adams, bdf, ida: the highest order used, 1 to
@@ -450,7 +452,7 @@ typedef struct eom_stats {
     /* what the error test was given (docs/integrators.md, "What the
      * tolerances mean"): */
     double step_tol;     /* the per-step relative tolerance for rtol:
-                            calibrated for adams, bdf and ida, rtol itself
+                            calibrated for adams, bdf, ida and esdirk, rtol itself
                             for erk (and with tol_per_step), 0 for rk4 */
     double tol_reachable; /* 0, or the tolerance the method keeps
                             instead of a tighter one asked for: its
