@@ -1,4 +1,5 @@
-/* test_integrators.c - the five integrators (rk4, erk, adams, bdf, ida)
+/* test_integrators.c - the six integrators (rk4, erk, adams, bdf, ida,
+ * esdirk)
  * through the public API, on mechanisms with known invariants:
  *
  *   - spring pendulum: the energy E is conserved, to a bound stated per
