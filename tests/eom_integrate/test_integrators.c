@@ -1,6 +1,5 @@
 /* test_integrators.c - the six integrators (rk4, erk, adams, bdf, ida,
- * esdirk)
- * through the public API, on mechanisms with known invariants:
+ * esdirk) through the public API, on mechanisms with known invariants:
  *
  *   - spring pendulum: the energy E is conserved, to a bound stated per
  *     method below (rk4 at a small step, the others at rtol 1e-10);
