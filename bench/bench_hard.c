@@ -182,10 +182,13 @@ static void stiff(int quick)
             printf("| stiff | set-up failed: %s |\n", msg);
             continue;
         }
-        run(s, EOM_BDF, 1e-12, 1e-15, 0.0, t_end, 20, &ref);
+        /* bdf's tolerances are targets for the run's error
+         * (docs/integrators.md): 1e-10 keeps it far below the errors of
+         * the runs measured */
+        run(s, EOM_BDF, 1e-10, 1e-13, 0.0, t_end, 20, &ref);
         snprintf(name, sizeof name, "closed chain, EI x %g, 3 modes",
                  factors[f]);
-        row(name, "bdf 1e-12, 1e-15 (reference)", &ref, -1);
+        row(name, "bdf 1e-10, 1e-13 (reference)", &ref, -1);
         for (tl = 0; tl < 2; tl++)
             for (k = 0; k < 4; k++) {
                 char meth[48];
