@@ -28,17 +28,17 @@ def derive(N):
     m = sp.symbols('m0:%d' % N)
     L = sp.symbols('L0:%d' % N)
     g = sp.Symbol('g')
-    x = y = vx = vy = 0
+    y = vx = vy = 0
     T = V = 0
     for j in range(N):
-        # the rod's centre: half its length from the joint at (x, y)
+        # the rod's centre: half its length from its joint at height y
+        # (V needs no horizontal position)
         cy = y + L[j] / 2 * sp.sin(th[j])
         cvx = vx - L[j] / 2 * sp.sin(th[j]) * thd[j]
         cvy = vy + L[j] / 2 * sp.cos(th[j]) * thd[j]
         T += sp.Rational(1, 2) * m[j] * (cvx**2 + cvy**2) \
             + sp.Rational(1, 24) * m[j] * L[j]**2 * thd[j]**2
         V += m[j] * g * cy
-        x += L[j] * sp.cos(th[j])
         y += L[j] * sp.sin(th[j])
         vx -= L[j] * sp.sin(th[j]) * thd[j]
         vy += L[j] * sp.cos(th[j]) * thd[j]
@@ -59,9 +59,9 @@ def function(N):
               .subs({th[j]: qs[j] for j in range(N)}) for e in exprs]
     rep, red = sp.cse(exprs)
     seconds = time.time() - t0
-    out = ["static void sympy_chain_%d(const double *m, const double *L, double g,"
+    out = ["void sympy_chain_%d(const double *m, const double *L, double g,"
            % N,
-           "                          const double *x, double *M, double *f)",
+           "                   const double *x, double *M, double *f)",
            "{"]
     for j in range(N):
         out.append("    const double m%d = m[%d], L%d = L[%d];" % (j, j, j, j))
@@ -87,7 +87,9 @@ def function(N):
 
 
 def compile_seconds(text):
-    """seconds for the system C compiler to compile text at -O2, or 0"""
+    """seconds for the system C compiler to compile text at -O2, or 0;
+    text's function must have external linkage: gcc drops an unused static
+    function before optimizing it, and would time little but the parse"""
     cc = os.environ.get('CC', 'cc')
     with tempfile.TemporaryDirectory() as d:
         src = os.path.join(d, 'f.c')
@@ -113,7 +115,7 @@ def main():
     table = []
     for N in ns:
         text, seconds = function(N)
-        parts.append(text)
+        parts.append("static " + text)
         table.append("    {%d, sympy_chain_%d, %.3f, %.3f}," %
                      (N, N, seconds, compile_seconds(text)))
     parts.append("const sympy_chain sympy_chains[] = {")
