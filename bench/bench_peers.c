@@ -1,11 +1,12 @@
 /* bench_peers.c - libeom's right-hand side beside the peers a user might
  * pick instead, on the same rigid chain (eom/chain.h: N links of unequal
- * masses and lengths, gravity), at N = 2, 5, 10, 20, 50:
+ * masses and lengths, gravity, absolute angles), at N = 2, 5, 10, 20, 50:
  *
  *   MuJoCo  mj_forward on the chain built as an MJCF model
  *           (bench/mujoco/mujoco_chain.c; option mujoco, Debian
  *           libmujoco-dev); its relative hinge accelerations converted to
- *           the chain's absolute ones.
+ *           the chain's absolute ones. Its time includes setting qpos and
+ *           qvel from the absolute state, as a caller of eom_rhs would.
  *   SymPy   C generated at build time by sympy.physics.mechanics'
  *           LagrangesMethod with common subexpressions eliminated
  *           (bench/sympy/chain_sympy.py; option sympy, Debian
@@ -13,13 +14,22 @@
  *           then solved by a plain inline Cholesky, as a user would.
  *
  * Each peer's accelerations are checked against eom_rhs's before any
- * time is reported, by the backward error of the peer's accelerations in
- * libeom's equations: |M (qdd_peer - qdd)| / (|M| |qdd|), max norms.
- * (The forward difference |qdd_peer - qdd| / |qdd| grows with the mass
- * matrix's condition number, 1e-15 at N = 2 to 1e-9 at N = 50, for any
- * two correct codes.) A peer above 1e-13 gets no ratio. The routes are
- * timed in alternation, R rounds of calibrated batches; the tables give
- * medians. A second table sets what building each route took beside each
+ * time is reported. The gate is the backward error of the peer's
+ * accelerations in libeom's equations, |M (qdd_peer - qdd)| / (|M| |qdd|)
+ * in max norms: a peer above 1e-13 gets no ratio. The forward difference
+ * |qdd_peer - qdd| / |qdd| is printed beside it, with the mass matrix's
+ * condition number (eom_condition) and the forward difference of the
+ * hand-coded equations (bench/chain_plain.c, the same coordinates and
+ * formulas) as yardsticks: it may reach cond(M) times the rounding unit
+ * for a code that works in other coordinates, and does for MuJoCo. For
+ * MuJoCo the backward error is also taken the other way round, of
+ * eom_rhs's accelerations in MuJoCo's own equations (hinge angles, its
+ * mass matrix): each code's answer is then judged where the other code
+ * rounds.
+ *
+ * The routes are timed in alternation with eom_rhs, R rounds of
+ * calibrated batches; the tables give medians (eom_rhs's over every
+ * round). A last table sets what building each route took beside each
  * other: libeom's recording (eom_system_new), SymPy's derivation and the
  * C compiler's work on its output.
  *
@@ -30,6 +40,7 @@
 #include <string.h>
 
 #include "bench_util.h"
+#include "chain_plain.h"
 #include "eom/chain.h"
 #ifdef HAVE_MUJOCO
 #include "mujoco_chain.h"
@@ -39,6 +50,9 @@
 #endif
 
 #define NPEERS 2
+#define MAX_REPS 64
+#define GATE 1e-13 /* the largest backward error a timed peer may have */
+enum { P_MUJOCO, P_SYMPY };
 static const char *const peer_name[NPEERS] = {"MuJoCo", "SymPy"};
 
 typedef struct ctx {
@@ -54,6 +68,20 @@ typedef struct ctx {
 #endif
 } ctx;
 
+/* One N: what the tables print, filled by measure(). */
+typedef struct row {
+    double record_ms;      /* eom_system_new */
+    double rhs_us;         /* eom_rhs, median over every round */
+    double cond;           /* 1-norm condition estimate of M */
+    double hand_fwd;       /* hand-coded equations' forward difference */
+    int have[NPEERS];      /* 1: built for this N */
+    double fwd[NPEERS];    /* forward difference from eom_rhs */
+    double bwd[NPEERS];    /* backward error in libeom's equations */
+    double mj_bwd;         /* eom_rhs's backward error in MuJoCo's */
+    double us[NPEERS];     /* median time (NAN: not timed) */
+    double ratio[NPEERS];  /* median of eom_rhs / peer per round */
+} row;
+
 static void run_tape(void *p)
 {
     ctx *c = p;
@@ -66,11 +94,6 @@ static void run_mujoco(void *p)
     ctx *c = p;
     mujoco_chain_set(c->mj, c->x);
     mujoco_chain_forward(c->mj);
-}
-
-static void qdd_mujoco(ctx *c)
-{
-    mujoco_chain_qdd(c->mj, c->qdd);
 }
 #endif
 
@@ -109,81 +132,153 @@ static void run_sympy(void *p)
         b[i] = s / A[i * n + i];
     }
 }
-
-static void qdd_sympy(ctx *c)
-{
-    (void)c; /* run_sympy left them in c->qdd */
-}
 #endif
 
-/* |M (qdd_peer - qdd)| / (|M| |qdd|) with libeom's M at the state */
-static double backward_error(ctx *c)
+/* Peer k's right-hand side for this N, or NULL when it was not built. */
+static void (*peer_run(ctx *c, int k))(void *)
+{
+    (void)c;
+#ifdef HAVE_MUJOCO
+    if (k == P_MUJOCO && c->mj)
+        return run_mujoco;
+#endif
+#ifdef HAVE_SYMPY
+    if (k == P_SYMPY && c->sym)
+        return run_sympy;
+#endif
+    (void)k;
+    return NULL;
+}
+
+/* Peer k's accelerations (absolute angles) into c->qdd, after its run. */
+static void peer_qdd(ctx *c, int k)
+{
+#ifdef HAVE_MUJOCO
+    if (k == P_MUJOCO)
+        mujoco_chain_qdd(c->mj, c->qdd);
+#endif
+    (void)c; /* run_sympy left them in c->qdd */
+    (void)k;
+}
+
+/* |q - qdd| / |qdd| in max norms, qdd eom_rhs's in c->xd + N */
+static double forward_diff(const ctx *c, const double *q)
+{
+    double d = 0.0, qmax = 0.0;
+    int i;
+    for (i = 0; i < c->N; i++) {
+        d = fmax(d, fabs(q[i] - c->xd[c->N + i]));
+        qmax = fmax(qmax, fabs(c->xd[c->N + i]));
+    }
+    return d / (qmax > 0.0 ? qmax : 1.0);
+}
+
+/* |M (q - qdd)| / (|M| |qdd|) with libeom's M and qdd at the state */
+static double backward_error(const ctx *c, const double *M, const double *q)
 {
     const int N = c->N;
-    double *M = malloc((size_t)N * (size_t)N * sizeof(double));
     double d = 0.0, Mmax = 0.0, qmax = 0.0;
     int i, k;
-    if (!M)
-        return INFINITY;
-    run_tape(c);
-    eom_mass_matrix(c->s, c->x, M);
     for (i = 0; i < N; i++) {
         double r = 0.0;
         for (k = 0; k < N; k++) {
-            r += M[i * N + k] * (c->qdd[k] - c->xd[N + k]);
+            r += M[i * N + k] * (q[k] - c->xd[N + k]);
             Mmax = fmax(Mmax, fabs(M[i * N + k]));
         }
         d = fmax(d, fabs(r));
         qmax = fmax(qmax, fabs(c->xd[N + i]));
     }
-    free(M);
     return d / (Mmax * qmax > 0.0 ? Mmax * qmax : 1.0);
 }
 
-/* a peer beside eom_rhs: the time of each and their ratio, or "-" */
-static void peer_cell(ctx *c, void (*run)(void *), void (*qdd)(ctx *),
-                      int reps, double min_batch, int *bad)
+/* The agreement columns of r: M's condition, the hand-coded equations'
+ * forward difference, and each built peer's. 0, or -1 out of memory. */
+static int compare(ctx *c, row *r)
 {
-    double e, t0[64], t1[64], r[64];
-    long b0, b1;
-    int i;
-    if (!run) {
-        printf(" - | - | - |");
-        return;
+    const int N = c->N;
+    double *M = malloc((size_t)N * (size_t)N * sizeof(double));
+    double *q = malloc((size_t)N * sizeof(double));
+    double rcond_M = 0.0, rcond_S;
+    chain_plain cp = {N, 0, c->m, c->L, NULL, c->g};
+    chain_hand *h = NULL;
+    int k, ok = M && q;
+    if (ok) {
+        run_tape(c);
+        eom_mass_matrix(c->s, c->x, M);
+        eom_condition(c->s, c->x, &rcond_M, &rcond_S);
+        r->cond = rcond_M > 0.0 ? 1.0 / rcond_M : INFINITY;
+        ok = chain_plain_hand_new(&h, &cp) == 0 &&
+             chain_plain_hand_rhs(h, c->x, q) == 0;
+        r->hand_fwd = ok ? forward_diff(c, q) : NAN;
+        chain_plain_hand_free(&h);
     }
-    run(c);
-    qdd(c);
-    e = backward_error(c);
-    if (!(e <= 1e-13)) {
-        printf(" disagrees: %.2g | - | - |", e);
-        *bad = 1;
-        return;
+    for (k = 0; ok && k < NPEERS; k++) {
+        void (*run)(void *) = peer_run(c, k);
+        r->have[k] = run != NULL;
+        r->fwd[k] = r->bwd[k] = NAN;
+        if (!run)
+            continue;
+        run(c);
+        peer_qdd(c, k);
+        r->fwd[k] = forward_diff(c, c->qdd);
+        r->bwd[k] = backward_error(c, M, c->qdd);
+#ifdef HAVE_MUJOCO
+        if (k == P_MUJOCO)
+            r->mj_bwd = mujoco_chain_backward_error(c->mj, c->xd + N);
+#endif
     }
-    b0 = bench_calibrate(run_tape, c, min_batch);
-    b1 = bench_calibrate(run, c, min_batch);
-    for (i = 0; i < reps && i < 64; i++) {
-        if (i % 2) {
-            t1[i] = bench_time(run, c, b1);
-            t0[i] = bench_time(run_tape, c, b0);
-        } else {
-            t0[i] = bench_time(run_tape, c, b0);
-            t1[i] = bench_time(run, c, b1);
-        }
-        r[i] = t0[i] / t1[i];
-    }
-    printf(" %.3g | %.2f | %.1e |", 1e6 * bench_median(t1, i),
-           bench_median(r, i), e);
+    free(M);
+    free(q);
+    return ok ? 0 : -1;
 }
 
-static int one(int N, int reps, double min_batch, double *record_ms)
+/* The timing columns of r: each peer that passed the gate in alternation
+ * with eom_rhs (the order flipped every round), reps rounds of batches
+ * of at least min_batch seconds. */
+static void time_routes(ctx *c, int reps, double min_batch, row *r)
+{
+    double tape[NPEERS * MAX_REPS], t0, t1, rt[MAX_REPS], tp[MAX_REPS];
+    long b0 = bench_calibrate(run_tape, c, min_batch), b1;
+    int k, i, ntape = 0;
+    for (k = 0; k < NPEERS; k++) {
+        void (*run)(void *) = peer_run(c, k);
+        r->us[k] = r->ratio[k] = NAN;
+        if (!run || !(r->bwd[k] <= GATE))
+            continue;
+        b1 = bench_calibrate(run, c, min_batch);
+        for (i = 0; i < reps; i++) {
+            if (i % 2) {
+                t1 = bench_time(run, c, b1);
+                t0 = bench_time(run_tape, c, b0);
+            } else {
+                t0 = bench_time(run_tape, c, b0);
+                t1 = bench_time(run, c, b1);
+            }
+            tape[ntape++] = t0;
+            tp[i] = t1;
+            rt[i] = t0 / t1;
+        }
+        r->us[k] = 1e6 * bench_median(tp, reps);
+        r->ratio[k] = bench_median(rt, reps);
+    }
+    if (!ntape) /* no peer to alternate with: eom_rhs alone */
+        for (i = 0; i < reps; i++)
+            tape[ntape++] = bench_time(run_tape, c, b0);
+    r->rhs_us = 1e6 * bench_median(tape, ntape);
+}
+
+/* Build every route for N links, compare and time them into r; 0, or 1
+ * when a peer disagrees (it is then not timed). */
+static int measure(int N, int reps, double min_batch, row *r)
 {
     ctx c;
     eom_model *md = NULL;
     eom_chain_spec sp = {0};
     char err[512];
     double t;
-    int i, bad = 0;
+    int i, k, bad = 0;
     memset(&c, 0, sizeof c);
+    memset(r, 0, sizeof *r);
     c.N = N;
     c.g = 9.81;
     c.x = malloc(2 * (size_t)N * sizeof(double));
@@ -215,35 +310,32 @@ static int one(int N, int reps, double min_batch, double *record_ms)
         fprintf(stderr, "bench-peers: N = %d: %s\n", N, err);
         exit(1);
     }
-    *record_ms = 1e3 * (bench_now() - t);
+    r->record_ms = 1e3 * (bench_now() - t);
     eom_model_free(&md);
-    run_tape(&c);
-    printf("| %d | %.3g |", N, 1e6 * bench_time(run_tape, &c,
-                                                 bench_calibrate(run_tape,
-                                                                 &c,
-                                                                 min_batch)));
 #ifdef HAVE_MUJOCO
     c.mj = mujoco_chain_new(N, c.m, c.L, c.g, err, (int)sizeof err);
     if (!c.mj) {
-        printf(" cannot load: %s | - | - |", err);
+        fprintf(stderr, "bench-peers: MuJoCo cannot load the %d-link "
+                "chain: %s\n", N, err);
         bad = 1;
-    } else {
-        peer_cell(&c, run_mujoco, qdd_mujoco, reps, min_batch, &bad);
-        mujoco_chain_free(c.mj);
     }
-#else
-    peer_cell(&c, NULL, NULL, reps, min_batch, &bad);
 #endif
 #ifdef HAVE_SYMPY
     for (i = 0; sympy_chains[i].N && sympy_chains[i].N != N; i++)
         ;
     c.sym = sympy_chains[i].fn;
-    peer_cell(&c, c.sym ? run_sympy : NULL, qdd_sympy, reps, min_batch,
-              &bad);
-#else
-    peer_cell(&c, NULL, NULL, reps, min_batch, &bad);
 #endif
-    printf("\n");
+    if (compare(&c, r) != 0) {
+        fprintf(stderr, "bench-peers: N = %d: the comparison failed\n", N);
+        exit(1);
+    }
+    for (k = 0; k < NPEERS; k++)
+        if (r->have[k] && !(r->bwd[k] <= GATE))
+            bad = 1;
+    time_routes(&c, reps, min_batch, r);
+#ifdef HAVE_MUJOCO
+    mujoco_chain_free(c.mj);
+#endif
     eom_system_free(&c.s);
     free(c.x);
     free(c.xd);
@@ -255,11 +347,95 @@ static int one(int N, int reps, double min_batch, double *record_ms)
     return bad;
 }
 
+static void print_times(const int *Ns, const row *r, int n)
+{
+    int i, k;
+    printf("| N | eom_rhs (us)");
+    for (k = 0; k < NPEERS; k++)
+        printf(" | %s (us) | eom_rhs / %s", peer_name[k], peer_name[k]);
+    printf(" |\n|---|---|");
+    for (k = 0; k < NPEERS; k++)
+        printf("---|---|");
+    printf("\n");
+    for (i = 0; i < n; i++) {
+        printf("| %d | %.3g |", Ns[i], r[i].rhs_us);
+        for (k = 0; k < NPEERS; k++) {
+            if (!r[i].have[k])
+                printf(" - | - |");
+            else if (!(r[i].bwd[k] <= GATE))
+                printf(" disagrees | - |");
+            else
+                printf(" %.3g | %.2f |", r[i].us[k], r[i].ratio[k]);
+        }
+        printf("\n");
+    }
+}
+
+static void print_agreement(const int *Ns, const row *r, int n)
+{
+    int i, k;
+    printf("| N | cond(M) | hand-coded: forward");
+    for (k = 0; k < NPEERS; k++) {
+        printf(" | %s: forward | %s: backward", peer_name[k], peer_name[k]);
+        if (k == P_MUJOCO)
+            printf(" | eom_rhs: backward in MuJoCo's");
+    }
+    printf(" |\n|---|---|---|");
+    for (k = 0; k < NPEERS; k++)
+        printf(k == P_MUJOCO ? "---|---|---|" : "---|---|");
+    printf("\n");
+    for (i = 0; i < n; i++) {
+        printf("| %d | %.2g | %.1e |", Ns[i], r[i].cond, r[i].hand_fwd);
+        for (k = 0; k < NPEERS; k++) {
+            if (r[i].have[k])
+                printf(" %.1e | %.1e%s |", r[i].fwd[k], r[i].bwd[k],
+                       r[i].bwd[k] <= GATE ? "" : " DISAGREES");
+            else
+                printf(" - | - |");
+            if (k == P_MUJOCO && r[i].have[k])
+                printf(" %.1e |", r[i].mj_bwd);
+            else if (k == P_MUJOCO)
+                printf(" - |");
+        }
+        printf("\n");
+    }
+}
+
+static void print_build(const int *Ns, const row *r, int n)
+{
+    const char *v = "";
+    int i;
+#ifdef HAVE_SYMPY
+    v = sympy_version;
+#endif
+    printf("| N | libeom: eom_system_new (ms) | SymPy %s: derivation (s) | "
+           "SymPy: cc -O2 (s) |\n|---|---|---|---|\n", v);
+    for (i = 0; i < n; i++) {
+        printf("| %d | %.3g |", Ns[i], r[i].record_ms);
+#ifdef HAVE_SYMPY
+        {
+            int k;
+            for (k = 0; sympy_chains[k].N && sympy_chains[k].N != Ns[i];
+                 k++)
+                ;
+            if (sympy_chains[k].N)
+                printf(" %.3g | %.3g |\n", sympy_chains[k].derive_seconds,
+                       sympy_chains[k].compile_seconds);
+            else
+                printf(" not derived (option sympy_links) | - |\n");
+        }
+#else
+        printf(" - | - |\n");
+#endif
+    }
+}
+
 int main(int argc, char **argv)
 {
     static const int Ns[] = {2, 5, 10, 20, 50};
-    double record_ms[5];
-    int reps = 15, quick = 0, i, k, bad = 0;
+    const int n = (int)(sizeof Ns / sizeof Ns[0]);
+    row r[sizeof Ns / sizeof Ns[0]];
+    int reps = 15, quick = 0, i, bad = 0;
     for (i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--quick")) {
             quick = 1;
@@ -271,41 +447,31 @@ int main(int argc, char **argv)
             return 2;
         }
     }
-    if (reps < 1 || reps > 64)
+    if (reps < 1 || reps > MAX_REPS)
         reps = 15;
-#ifndef HAVE_MUJOCO
+#if !defined HAVE_MUJOCO && defined MUJOCO_DISABLED
+    printf("mujoco: skipped (option mujoco is disabled; meson setup "
+           "-Dmujoco=enabled to build it)\n");
+#elif !defined HAVE_MUJOCO
     printf("mujoco: skipped (libmujoco-dev not found; meson setup "
            "-Dmujoco=enabled to require it)\n");
 #endif
-#ifndef HAVE_SYMPY
-    printf("sympy: skipped (python3 cannot import sympy; meson setup "
-           "-Dsympy=enabled to require it)\n");
+#if !defined HAVE_SYMPY && defined SYMPY_DISABLED
+    printf("sympy: skipped (option sympy is disabled; meson setup "
+           "-Dsympy=enabled to build it)\n");
+#elif !defined HAVE_SYMPY
+    printf("sympy: skipped (python3 cannot import sympy.physics.mechanics; "
+           "meson setup -Dsympy=enabled to require it)\n");
 #endif
-    printf("\n| N | eom_rhs (us)");
-    for (k = 0; k < NPEERS; k++)
-        printf(" | %s (us) | eom_rhs / %s | backward error", peer_name[k],
-               peer_name[k]);
-    printf(" |\n|---|---|");
-    for (k = 0; k < NPEERS; k++)
-        printf("---|---|---|");
-    printf("\n");
-    for (i = 0; i < 5; i++)
-        bad |= one(Ns[i], reps, quick ? 0.002 : 0.05, &record_ms[i]);
-    printf("\n| N | libeom: eom_system_new (ms) | SymPy: derivation (s) | "
-           "SymPy: cc -O2 (s) |\n|---|---|---|---|\n");
-    for (i = 0; i < 5; i++) {
-        printf("| %d | %.3g |", Ns[i], record_ms[i]);
-#ifdef HAVE_SYMPY
-        for (k = 0; sympy_chains[k].N && sympy_chains[k].N != Ns[i]; k++)
-            ;
-        if (sympy_chains[k].N)
-            printf(" %.3g | %.3g |\n", sympy_chains[k].derive_seconds,
-                   sympy_chains[k].compile_seconds);
-        else
-            printf(" not derived (option sympy_links) | - |\n");
-#else
-        printf(" - | - |\n");
-#endif
-    }
+    for (i = 0; i < n; i++)
+        bad |= measure(Ns[i], reps, quick ? 0.002 : 0.05, &r[i]);
+    printf("\nOne right-hand side, medians of %d alternating rounds:\n\n",
+           reps);
+    print_times(Ns, r, n);
+    printf("\nAgreement with eom_rhs (max norms; a peer whose backward "
+           "error exceeds %.0e is not timed):\n\n", GATE);
+    print_agreement(Ns, r, n);
+    printf("\nWhat building each route took:\n\n");
+    print_build(Ns, r, n);
     return bad;
 }

@@ -2,6 +2,7 @@
  * loaded through MuJoCo's virtual file system (see mujoco_chain.h). */
 #include "mujoco_chain.h"
 
+#include <math.h>
 #include <mujoco/mujoco.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -152,4 +153,28 @@ void mujoco_chain_qdd(const mujoco_chain *c, double *qdd)
         sum += c->d->qacc[j];
         qdd[j] = sum;
     }
+}
+
+double mujoco_chain_backward_error(const mujoco_chain *c, const double *qdd)
+{
+    const int N = c->N;
+    double *M = malloc((size_t)N * (size_t)N * sizeof(double));
+    double d = 0.0, Mmax = 0.0, amax = 0.0;
+    int i, k;
+    if (!M)
+        return INFINITY;
+    mj_fullM(c->m, M, c->d->qM);
+    for (i = 0; i < N; i++) {
+        double r = 0.0;
+        for (k = 0; k < N; k++) {
+            /* qdd's hinge acceleration: relative to the parent link */
+            const double rel = qdd[k] - (k ? qdd[k - 1] : 0.0);
+            r += M[i * N + k] * (c->d->qacc[k] - rel);
+            Mmax = fmax(Mmax, fabs(M[i * N + k]));
+        }
+        d = fmax(d, fabs(r));
+        amax = fmax(amax, fabs(c->d->qacc[i]));
+    }
+    free(M);
+    return d / (Mmax * amax > 0.0 ? Mmax * amax : 1.0);
 }

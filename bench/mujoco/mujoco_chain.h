@@ -22,5 +22,10 @@ void mujoco_chain_set(mujoco_chain *c, const double *x);
 /* mj_forward at the state set; the absolute accelerations in qdd (N). */
 void mujoco_chain_forward(mujoco_chain *c);
 void mujoco_chain_qdd(const mujoco_chain *c, double *qdd);
+/* The backward error of other absolute accelerations qdd (N) in MuJoCo's
+ * own equations at the last forward: |M_h (qacc - qdd_h)| / (|M_h| |qacc|)
+ * in max norms, with MuJoCo's mass matrix M_h and qdd_h qdd's hinge
+ * (relative) accelerations. INFINITY out of memory. */
+double mujoco_chain_backward_error(const mujoco_chain *c, const double *qdd);
 
 #endif

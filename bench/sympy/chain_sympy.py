@@ -10,7 +10,8 @@ usage: chain_sympy.py OUT.c N [N ...]
 OUT.c holds sympy_chain_N(m, L, g, x, M, f) for each N, and a table
 sympy_chains[] with each N, its function, the seconds the derivation and
 the elimination took, and the seconds the system C compiler ($CC, else
-cc) took to compile that function alone at -O2 (0 if it could not)."""
+cc) took to compile that function alone at -O2 (0 if it could not); and
+sympy_version, the version of the SymPy that derived them."""
 import os
 import subprocess
 import sys
@@ -122,6 +123,7 @@ def main():
     parts.extend(table)
     parts.append("    {0, 0, 0.0, 0.0},")
     parts.append("};")
+    parts.append('const char sympy_version[] = "%s";' % sp.__version__)
     with open(sys.argv[1], 'w') as fh:
         fh.write("\n".join(parts) + "\n")
     return 0

@@ -1,7 +1,9 @@
 /* sympy_chains.h - the rigid chains derived by SymPy at build time
  * (chain_sympy.py): for each N, M and f with M qdd = f at x = (theta,
  * theta_dot) for masses m, lengths L and gravity g, and what deriving and
- * compiling the function took. The table ends with N = 0. */
+ * compiling the function took. The table ends with N = 0. Which SymPy
+ * derived them matters for the times: the build's python3 may not be the
+ * system's. */
 #ifndef BENCH_SYMPY_CHAINS_H
 #define BENCH_SYMPY_CHAINS_H
 
@@ -16,5 +18,6 @@ typedef struct sympy_chain {
 } sympy_chain;
 
 extern const sympy_chain sympy_chains[];
+extern const char sympy_version[]; /* the SymPy that derived them */
 
 #endif
