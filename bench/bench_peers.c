@@ -408,8 +408,8 @@ static void print_build(const int *Ns, const row *r, int n)
 #ifdef HAVE_SYMPY
     v = sympy_version;
 #endif
-    printf("| N | libeom: eom_system_new (ms) | SymPy %s: derivation (s) | "
-           "SymPy: cc -O2 (s) |\n|---|---|---|---|\n", v);
+    printf("| N | libeom: eom_system_new (ms) | SymPy %s: derivation (CPU s) | "
+           "SymPy: cc -O2 (CPU s) |\n|---|---|---|---|\n", v);
     for (i = 0; i < n; i++) {
         printf("| %d | %.3g |", Ns[i], r[i].record_ms);
 #ifdef HAVE_SYMPY

@@ -8,11 +8,14 @@ subexpressions eliminated by sympy.cse, written as C by sympy.ccode.
 usage: chain_sympy.py OUT.c N [N ...]
 
 OUT.c holds sympy_chain_N(m, L, g, x, M, f) for each N, and a table
-sympy_chains[] with each N, its function, the seconds the derivation and
-the elimination took, and the seconds the system C compiler ($CC, else
-cc) took to compile that function alone at -O2 (0 if it could not); and
+sympy_chains[] with each N, its function, the CPU seconds the derivation
+and the elimination took, and the CPU seconds the system C compiler ($CC,
+else cc) took to compile that function alone at -O2 (0 if it could not);
+CPU rather than wall seconds, so that a busy machine does not inflate
+them; and
 sympy_version, the version of the SymPy that derived them."""
 import os
+import resource
 import subprocess
 import sys
 import tempfile
@@ -49,7 +52,7 @@ def derive(N):
 
 
 def function(N):
-    t0 = time.time()
+    t0 = time.process_time()
     M, f, th, thd = derive(N)
     qs = sp.symbols('q0:%d' % N)
     us = sp.symbols('u0:%d' % N)
@@ -59,7 +62,7 @@ def function(N):
     exprs = [e.subs({thd[j]: us[j] for j in range(N)})
               .subs({th[j]: qs[j] for j in range(N)}) for e in exprs]
     rep, red = sp.cse(exprs)
-    seconds = time.time() - t0
+    seconds = time.process_time() - t0
     out = ["void sympy_chain_%d(const double *m, const double *L, double g,"
            % N,
            "                   const double *x, double *M, double *f)",
@@ -87,6 +90,12 @@ def function(N):
     return "\n".join(out) + "\n", seconds
 
 
+def children_seconds():
+    """CPU seconds of the finished child processes so far"""
+    ru = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return ru.ru_utime + ru.ru_stime
+
+
 def compile_seconds(text):
     """seconds for the system C compiler to compile text at -O2, or 0;
     text's function must have external linkage: gcc drops an unused static
@@ -96,14 +105,14 @@ def compile_seconds(text):
         src = os.path.join(d, 'f.c')
         with open(src, 'w') as fh:
             fh.write("#include <math.h>\n" + text)
-        t0 = time.time()
+        t0 = children_seconds()
         try:
             r = subprocess.run([cc, '-O2', '-c', src, '-o',
                                 os.path.join(d, 'f.o')],
                                capture_output=True, timeout=600)
         except (OSError, subprocess.TimeoutExpired):
             return 0.0
-        return time.time() - t0 if r.returncode == 0 else 0.0
+        return children_seconds() - t0 if r.returncode == 0 else 0.0
 
 
 def main():

@@ -13,8 +13,9 @@ typedef void (*sympy_chain_fn)(const double *m, const double *L, double g,
 typedef struct sympy_chain {
     int N;
     sympy_chain_fn fn;
-    double derive_seconds;  /* LagrangesMethod and cse */
-    double compile_seconds; /* cc -O2 of the function alone (0: failed) */
+    double derive_seconds;  /* CPU s: LagrangesMethod and cse */
+    double compile_seconds; /* CPU s: cc -O2 of the function alone (0:
+                             * failed) */
 } sympy_chain;
 
 extern const sympy_chain sympy_chains[];
