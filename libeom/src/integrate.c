@@ -459,10 +459,14 @@ int eom_integ_advance(eom_integ *it, double tout, double *x, double *W)
         return EOM_ERR_ARG;
     }
     t0 = now();
-    rc = it->sub ? eom__integ_handover(it, tout)
-                 : it->ops->advance(it, tout);
-    if (rc == EOM_ERR_RANK_DEFICIENT && it->refuse_singular && !it->sub)
+    if (it->sub) {
+        /* a singular stretch goes on */
         rc = eom__integ_handover(it, tout);
+    } else {
+        rc = it->ops->advance(it, tout);
+        if (rc == EOM_ERR_RANK_DEFICIENT && it->refuse_singular)
+            rc = eom__integ_handover(it, tout);
+    }
     /* where a handover would begin */
     if (rc == EOM_OK && it->branch && !it->branch_borrowed &&
         eom__branch_mark(it->branch) != EOM_OK)
