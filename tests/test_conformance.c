@@ -19,6 +19,11 @@
  *   (d) tp_hessian symmetric and equal to the tuple Hessian;
  *   (e) every fast sweep against the reference interpreter tp__ref_*;
  *   (f) tp_taylor2's coefficients against J d and d' H d;
+ *   (g) derivative tapes: T's reverse sweep recorded by tp_call_vjp and
+ *       its tangent sweep by tp_call_jvp, finalized and swept: values
+ *       against (b) and (a), Jacobians against the Hessians of (c), (d),
+ *       parameter gradients against central differences; the same calls
+ *       run on the double and tuple evaluators;
  * on workspaces with max_dirs 1, 3 and 4 (= n), so chunking is exercised.
  * Seeds include directions confined to one group, which exercises the
  * sweeps' dependency skipping.
@@ -239,6 +244,8 @@ static double sample(int dom, int k, rng *g, double *u, double *t)
 typedef struct engines {
     conf_case *cc;
     tp_tape *T;
+    tp_tape *Tg, *Tt; /* derivative tapes of T (record_derived) */
+    tp_ws *wg, *wt;
     tp_ws *ws[NW];
     tp_rec *ev, *tu;
     int kcu, kct;        /* parameter indices on the tape */
@@ -270,6 +277,14 @@ static void set_params(engines *E, double pu, double pt)
     CHECK_INT(tp_rec_set_param(E->ev, "ct", pt), TP_OK);
     CHECK_INT(tp_rec_set_param(E->tu, "cu", pu), TP_OK);
     CHECK_INT(tp_rec_set_param(E->tu, "ct", pt), TP_OK);
+    CHECK_INT(tp_ws_set_param(E->wg, tp_tape_param_index(E->Tg, "cu"), pu),
+              TP_OK);
+    CHECK_INT(tp_ws_set_param(E->wg, tp_tape_param_index(E->Tg, "ct"), pt),
+              TP_OK);
+    CHECK_INT(tp_ws_set_param(E->wt, tp_tape_param_index(E->Tt, "cu"), pu),
+              TP_OK);
+    CHECK_INT(tp_ws_set_param(E->wt, tp_tape_param_index(E->Tt, "ct"), pt),
+              TP_OK);
     E->param[E->kcu] = pu;
     E->param[E->kct] = pt;
 }
@@ -284,6 +299,217 @@ static double term_scale(int m, int n, const double *A, const double *s,
         for (j = 0; j < n; j++)
             sc += fabs(A[i * n + j]) * fabs(s[j * lds]);
     return sc;
+}
+
+/* ---- derivative tapes (g) --------------------------------------------- */
+
+/* The gradient tape of T: independents (x, w), outputs y (NO), w'J over x
+ * (NI) and over the two parameters, recorded by tp_call_vjp. */
+static int rec_gradient_tape(tp_rec *r, void *user)
+{
+    const tp_tape *T = user;
+    tp_val x[NI], w[NO], y[NO], gx[NI], gp[2];
+    char name[16];
+    int i;
+    for (i = 0; i < NI; i++)
+        x[i] = tp_indep(r, i);
+    for (i = 0; i < NO; i++)
+        w[i] = tp_indep(r, NI + i);
+    if (tp_call_vjp(r, T, x, NULL, w, y, gx, gp) != TP_OK)
+        return 1;
+    for (i = 0; i < NO; i++) {
+        snprintf(name, sizeof name, "y%d", i);
+        tp_output(r, name, y[i]);
+    }
+    for (i = 0; i < NI; i++) {
+        snprintf(name, sizeof name, "gx%d", i);
+        tp_output(r, name, gx[i]);
+    }
+    tp_output(r, "gp0", gp[0]);
+    tp_output(r, "gp1", gp[1]);
+    return 0;
+}
+
+/* The tangent tape of T: independents (x, s), outputs y (NO) and J s
+ * (NO), recorded by tp_call_jvp. */
+static int rec_tangent_tape(tp_rec *r, void *user)
+{
+    const tp_tape *T = user;
+    tp_val x[NI], s[NI], y[NO], dy[NO];
+    char name[16];
+    int i;
+    for (i = 0; i < NI; i++) {
+        x[i] = tp_indep(r, i);
+        s[i] = tp_indep(r, NI + i);
+    }
+    if (tp_call_jvp(r, T, x, NULL, s, NULL, y, dy) != TP_OK)
+        return 1;
+    for (i = 0; i < NO; i++) {
+        snprintf(name, sizeof name, "y%d", i);
+        tp_output(r, name, y[i]);
+        snprintf(name, sizeof name, "dy%d", i);
+        tp_output(r, name, dy[i]);
+    }
+    return 0;
+}
+
+static int record_derived(engines *E)
+{
+    static const unsigned char gg[NI + NO] = {0, 0, 1, 1, 2, 2};
+    static const unsigned char gt[2 * NI] = {0, 0, 1, 1, 2, 2, 2, 2};
+    tp_rec *r = NULL;
+    int rc = tp_recorder_new(&r, NI + NO, gg, NULL);
+    if (rc == TP_OK)
+        rc = tp_rec_run(r, NULL, rec_gradient_tape, E->T);
+    if (rc == TP_OK)
+        rc = tp_recorder_finish(r, &E->Tg);
+    tp_rec_free(&r);
+    if (rc == TP_OK)
+        rc = tp_recorder_new(&r, 2 * NI, gt, NULL);
+    if (rc == TP_OK)
+        rc = tp_rec_run(r, NULL, rec_tangent_tape, E->T);
+    if (rc == TP_OK)
+        rc = tp_recorder_finish(r, &E->Tt);
+    tp_rec_free(&r);
+    if (rc == TP_OK)
+        rc = tp_ws_new(&E->wg, E->Tg, NI + NO, NULL);
+    if (rc == TP_OK)
+        rc = tp_ws_new(&E->wt, E->Tt, 2 * NI, NULL);
+    return rc;
+}
+
+/* tp_call_vjp run on an evaluator: x independents, constant weights. */
+typedef struct call_args {
+    const tp_tape *T;
+    const double *w;
+} call_args;
+
+static int rec_call_vjp(tp_rec *r, void *user)
+{
+    const call_args *a = user;
+    tp_val x[NI], w[NO], gx[NI];
+    char name[16];
+    int i;
+    for (i = 0; i < NI; i++)
+        x[i] = tp_indep(r, i);
+    for (i = 0; i < NO; i++)
+        w[i] = tp_const(r, a->w[i]);
+    if (tp_call_vjp(r, a->T, x, NULL, w, NULL, gx, NULL) != TP_OK)
+        return 1;
+    for (i = 0; i < NI; i++) {
+        snprintf(name, sizeof name, "gx%d", i);
+        tp_output(r, name, gx[i]);
+    }
+    return 0;
+}
+
+/* (g) The derivative tapes against the sweeps of T: the gradient tape's
+ * values are w'J, its Jacobian over x is the weighted Hessian Hw (the
+ * tuple engine's) and over w is J'; its parameter gradient matches
+ * central differences in the parameters; the tangent tape's values are
+ * J s and its Jacobian is H s for each output. The same replay run on the
+ * double and tuple evaluators gives w'J and (through the tuples) Hw
+ * again. */
+static void check_derived(engines *E, const double *x, const double *w,
+                          const double *gv, const double *J,
+                          const double *S, const double *Hw,
+                          const double *Hall, double h, const char *ctx)
+{
+    enum { NG = NO + NI + 2, NT = 2 * NO };
+    double z[NI + NO], yg[NG], Jg[NG * (NI + NO)], a[NI * NI], b[NI * NI];
+    double zt[2 * NI], yt[NT], Jt[NT * 2 * NI], gtu[NI * NI], gev[NI];
+    double y0[NO], yp[NO], fd[2];
+    call_args ca;
+    int i, j, o, k, kp[2];
+
+    for (i = 0; i < NI; i++)
+        z[i] = x[i];
+    for (o = 0; o < NO; o++)
+        z[NI + o] = w[o];
+    CHECK_INT(tp_eval(E->wg, z, yg), TP_OK);
+    CHECK_INT(tp_eval(E->ws[NW - 1], x, y0), TP_OK);
+    CHECK_VEC(ctx, yg, y0, NO, 1e-14);
+    CHECK_VEC_SCALED(ctx, yg + NO, gv, NI, num_max_abs(gv, NI) + 1.0,
+                     1e-13);
+    CHECK_INT(tp_jacobian(E->wg, z, 0, NI + NO, NULL, Jg), TP_OK);
+    for (i = 0; i < NI; i++)
+        for (j = 0; j < NI; j++)
+            a[i * NI + j] = Jg[(NO + i) * (NI + NO) + j];
+    CHECK_VEC_SCALED(ctx, a, Hw, NI * NI, num_max_abs(Hw, NI * NI) + 1.0,
+                     1e-12);
+    for (i = 0; i < NI; i++)
+        for (o = 0; o < NO; o++) {
+            a[i * NO + o] = Jg[(NO + i) * (NI + NO) + NI + o];
+            b[i * NO + o] = J[o * NI + i];
+        }
+    CHECK_VEC_SCALED(ctx, a, b, NI * NO, num_max_abs(J, NO * NI) + 1.0,
+                     1e-13);
+    /* the parameter gradient against central differences of w'y */
+    kp[0] = E->kcu;
+    kp[1] = E->kct;
+    for (k = 0; k < 2; k++) {
+        /* fourth-order central differences: steps h and 2 h */
+        static const double step[4] = {1.0, -1.0, 2.0, -2.0};
+        static const double coef[4] = {8.0, -8.0, -1.0, 1.0};
+        const double p0 = E->param[kp[k]];
+        int m;
+        fd[k] = 0.0;
+        for (m = 0; m < 4; m++) {
+            double sw = 0.0;
+            CHECK_INT(tp_ws_set_param(E->ws[NW - 1], kp[k],
+                                      p0 + step[m] * h), TP_OK);
+            CHECK_INT(tp_eval(E->ws[NW - 1], x, yp), TP_OK);
+            for (o = 0; o < NO; o++)
+                sw += w[o] * yp[o];
+            fd[k] += coef[m] * sw / (12.0 * h);
+        }
+        CHECK_INT(tp_ws_set_param(E->ws[NW - 1], kp[k], p0), TP_OK);
+    }
+    /* the tape lists cu and ct in the order they were declared */
+    {
+        double gp[2];
+        gp[0] = yg[NO + NI + (tp_tape_param_index(E->Tg, "cu") == E->kcu
+                                  ? 0 : 1)];
+        gp[1] = yg[NO + NI + (tp_tape_param_index(E->Tg, "cu") == E->kcu
+                                  ? 1 : 0)];
+        CHECK_VEC_SCALED(ctx, gp, fd, 2, num_max_abs(fd, 2) + 1.0, 1e-6);
+    }
+
+    /* the tangent tape along the first direction of S */
+    for (i = 0; i < NI; i++) {
+        zt[i] = x[i];
+        zt[NI + i] = S[i * NS];
+    }
+    CHECK_INT(tp_eval(E->wt, zt, yt), TP_OK);
+    CHECK_INT(tp_jacobian(E->wt, zt, 0, NI, NULL, Jt), TP_OK);
+    for (o = 0; o < NO; o++) {
+        const double *H = Hall + o * NI * NI;
+        double js = 0.0, sc = 0.0, hs[NI];
+        for (i = 0; i < NI; i++) {
+            js += J[o * NI + i] * zt[NI + i];
+            sc += fabs(J[o * NI + i] * zt[NI + i]);
+        }
+        CHECK_VEC(ctx, &yt[2 * o], &y0[o], 1, 1e-14);
+        CHECK_VEC_SCALED(ctx, &yt[2 * o + 1], &js, 1, sc + 1.0, 1e-13);
+        for (i = 0; i < NI; i++) {
+            hs[i] = 0.0;
+            for (j = 0; j < NI; j++)
+                hs[i] += H[i * NI + j] * zt[NI + j];
+            a[i] = Jt[(2 * o + 1) * NI + i];
+        }
+        CHECK_VEC_SCALED(ctx, a, hs, NI, num_max_abs(H, NI * NI) + 1.0,
+                         1e-12);
+    }
+
+    /* the replay on the evaluators: w'J by doubles, Hw by tuples */
+    ca.T = E->T;
+    ca.w = w;
+    CHECK_INT(st_eval(E->ev, x, rec_call_vjp, &ca, gev), TP_OK);
+    CHECK_VEC_SCALED(ctx, gev, gv, NI, num_max_abs(gv, NI) + 1.0, 1e-13);
+    CHECK_INT(st_tuple(E->tu, x, rec_call_vjp, &ca, NULL, gtu, NULL),
+              TP_OK);
+    CHECK_VEC_SCALED(ctx, gtu, Hw, NI * NI, num_max_abs(Hw, NI * NI) + 1.0,
+                     1e-12);
 }
 
 /* ---- the checks at one point ------------------------------------------ */
@@ -459,6 +685,7 @@ static void check_point(engines *E, const double *x, double h,
                              term_scale(1, NI, J + o * NI, sk, 1), 1e-13);
         }
     }
+    check_derived(E, x, w, gv, J, S, Hw, Hall, h, ctx);
 }
 
 /* ---- one case: record, then sample points ----------------------------- */
@@ -493,6 +720,7 @@ static void run_case(conf_case *cc, tp_rec *ev, tp_rec *tu,
     E.kcu = tp_tape_param_index(E.T, "cu");
     E.kct = tp_tape_param_index(E.T, "ct");
     CHECK(E.kcu >= 0 && E.kcu < 2 && E.kct >= 0 && E.kct < 2);
+    CHECK_INT(record_derived(&E), TP_OK);
     for (q = 0; q < NW; q++)
         CHECK_INT(tp_ws_new(&E.ws[q], E.T, ws_dirs[q], NULL), TP_OK);
 
@@ -545,6 +773,10 @@ static void run_case(conf_case *cc, tp_rec *ev, tp_rec *tu,
     }
     for (q = 0; q < NW; q++)
         tp_ws_free(&E.ws[q]);
+    tp_ws_free(&E.wg);
+    tp_ws_free(&E.wt);
+    tp_tape_free(&E.Tg);
+    tp_tape_free(&E.Tt);
     tp_tape_free(&E.T);
 }
 

@@ -344,6 +344,40 @@ TP_API int tp_lagrange_t(tp_ws *ws, const double *x, int out, double *L,
 TP_API int tp_tuple_lagrange(const tp_rec *r, int out, double *L,
                              double *dLdq, double *M, double *h);
 
+/* ---- a tape called from a recording (derivative tapes) ---------------- */
+
+/* Record, inside a run of r (any backend), what the finished tape t
+ * computes, as if its user function were called there: x[n_indep] are
+ * values of r standing for t's independents; par[n_param] those for its
+ * parameters, or NULL to declare t's parameters in r by name with their
+ * defaults (tp_param), so that they stay parameters of a tape recorded by
+ * r. y[n_out] receives t's outputs. The same call on the evaluators
+ * computes the values directly.
+ *
+ * tp_call_jvp also records the directional derivative dy = J dx + Jp dpar
+ * for a direction given as values dx[n_indep] and dpar[n_param] (either
+ * may be NULL: zero); y may be NULL.
+ *
+ * tp_call_vjp also records the reverse sweep: gx[n_indep] = w^T J and
+ * gpar[n_param] = w^T dy/dpar for output weights w[n_out] (values of r);
+ * y, and one of gx and gpar, may be NULL.
+ *
+ * Recorded by the recorder, these are derivative tapes: the gradient of a
+ * Lagrangian as a tape of its own, whose sweeps give third derivatives.
+ * Each op of t adds a bounded number of ops (derivatives known to be zero
+ * are not recorded), so a derivative tape grows linearly with t. The
+ * derivative of |u| is recorded as u / |u| (NaN at u = 0, where the
+ * sweeps take 0). Errors are r's sticky errors; the return value is r's
+ * status after the call. */
+TP_API int tp_call(tp_rec *r, const tp_tape *t, const tp_val *x,
+                   const tp_val *par, tp_val *y);
+TP_API int tp_call_jvp(tp_rec *r, const tp_tape *t, const tp_val *x,
+                       const tp_val *par, const tp_val *dx,
+                       const tp_val *dpar, tp_val *y, tp_val *dy);
+TP_API int tp_call_vjp(tp_rec *r, const tp_tape *t, const tp_val *x,
+                       const tp_val *par, const tp_val *w, tp_val *y,
+                       tp_val *gx, tp_val *gpar);
+
 #ifdef __cplusplus
 }
 #endif
