@@ -144,6 +144,10 @@ struct eom_system {
     eom_named *coords, *params, *probes; /* copies (fn unused) */
     double *pval;                        /* parameter values in use */
     eom_tape tL, tE, tR, tQ, tphi;
+    /* the residual tape (residual.c): z = (q, qd, qdd, lambda, t); its
+     * workspace and the Jacobian's scratch are made on first use */
+    eom_tape tRes;
+    double *jz, *jres, *jB, *jy;
     eom_shared *shared;                  /* the tapes' owners */
     double alpha, beta;                  /* Baumgarte */
     char msg[EOM_MSG_LEN];
@@ -197,6 +201,16 @@ struct eom_system {
     double *Sa, *Su, *Svt, *Ssv, *Swork;
     int Slwork;
 };
+
+/* residual.c: record the residual tape from the system's tapes (at the
+ * end of eom_system_new). */
+int eom__record_residual(eom_system *s);
+/* residual.c: the exact Jacobian of the state derivative at (t, x), the
+ * columns of A (leading dimension lda) for x = (q, qd): 2n rows, and with
+ * with_power a row 2n for the dissipated energy W and a zero column 2n
+ * (A is then (2n + 1) square). Leaves s evaluated at (t, x). */
+int eom__state_jacobian(eom_system *s, double t, const double *x,
+                        double *A, int lda, int with_power);
 
 /* rhs.c: the non-conservative generalized forces at (t, x), -dR/dqd + Q,
  * into s->Qv, and their power qd . Qv into s->power (uses s->wn). */

@@ -399,6 +399,7 @@ void eom_system_free(eom_system **sp)
     tape_free(&s->tR, last);
     tape_free(&s->tQ, last);
     tape_free(&s->tphi, last);
+    tape_free(&s->tRes, last);
     if (last)
         free(s->shared);
     free_named(s->coords, s->n);
@@ -438,6 +439,10 @@ void eom_system_free(eom_system **sp)
     free(s->Sp);
     free(s->Si);
     free(s->Sx);
+    free(s->jz);
+    free(s->jres);
+    free(s->jB);
+    free(s->jy);
     free(s);
     *sp = NULL;
 }
@@ -622,6 +627,8 @@ int eom_system_new(eom_system **out, const eom_model *m, char *errmsg,
     }
     s->reads_time = s->tL.tindex >= 0 || s->tE.tparam >= 0 ||
                     s->tR.tparam >= 0 || s->tphi.tindex >= 0;
+    if ((rc = eom__record_residual(s)) != EOM_OK)
+        goto fail;
     s->msg[0] = '\0';
     *out = s;
     return EOM_OK;
@@ -706,6 +713,17 @@ int eom_system_clone(eom_system **out, const eom_system *s, char *errmsg,
         (rc = clone_tape(c, &c->tQ, &s->tQ)) != EOM_OK ||
         (rc = clone_tape(c, &c->tphi, &s->tphi)) != EOM_OK)
         goto fail;
+    /* the residual tape's workspace is made on first use */
+    c->tRes.tape = s->tRes.tape;
+    c->tRes.dirs = s->tRes.dirs;
+    c->tRes.tindex = -1;
+    c->tRes.tparam = -1;
+    c->tRes.tset = NAN;
+    if (!(c->tRes.pmap = malloc((size_t)(c->np ? c->np : 1) * sizeof(int)))) {
+        rc = eom__fail(c, EOM_ERR_NOMEM, "out of memory");
+        goto fail;
+    }
+    memcpy(c->tRes.pmap, s->tRes.pmap, (size_t)c->np * sizeof(int));
     if (c->m > 0 && (rc = setup_klu(c)) != EOM_OK)
         goto fail;
     c->msg[0] = '\0';
@@ -796,7 +814,7 @@ int eom_param_index(const eom_system *s, const char *name)
 
 int eom_set_param(eom_system *s, int k, double value)
 {
-    eom_tape *tapes[5];
+    eom_tape *tapes[6];
     int i;
     if (!s)
         return EOM_ERR_NULL;
@@ -813,7 +831,8 @@ int eom_set_param(eom_system *s, int k, double value)
     tapes[2] = &s->tR;
     tapes[3] = &s->tQ;
     tapes[4] = &s->tphi;
-    for (i = 0; i < 5; i++)
+    tapes[5] = &s->tRes;
+    for (i = 0; i < 6; i++)
         if (tapes[i]->ws && tapes[i]->pmap[k] >= 0)
             tp_ws_set_param(tapes[i]->ws, tapes[i]->pmap[k], value);
     s->pval[k] = value;

@@ -270,6 +270,15 @@ EOM_API double eom_get_time(const eom_system *s);
  * the model's domain), EOM_ERR_SINGULAR_MASS, EOM_ERR_RANK_DEFICIENT. */
 EOM_API int eom_rhs(eom_system *s, double t, const double *x, double *xd);
 
+/* The exact Jacobian of the state derivative, A = d(xd)/dx (2n x 2n,
+ * row-major) at (t, x): the accelerations differentiated through the
+ * Lagrangian's third derivatives, the dissipation, the forces, the
+ * constraint forces and multipliers and the Baumgarte terms, from a
+ * forward sweep of the system's residual tape (docs/integrators.md). The
+ * implicit integrators use it for their Newton iterations. */
+EOM_API int eom_state_jacobian(eom_system *s, double t, const double *x,
+                               double *A);
+
 /* Quantities at a state; each evaluates what it needs. */
 EOM_API int eom_mass_matrix(eom_system *s, const double *x, double *M);
 /* C = dphi/dq (m x n) and phi (m, may be NULL) at q = x[0..n). */

@@ -1,0 +1,478 @@
+/* residual.c - Lagrange's equations as a tape of their own, and from it
+ * the exact Jacobian of the state derivative.
+ *
+ * The residual tape is recorded once per system from the system's tapes
+ * with libtape's derivative calls (tp_call, tp_call_jvp, tp_call_vjp).
+ * Its independents are z = (q, qd, qdd, lambda, t) and its outputs
+ *
+ *   E     = d/dt (dL/dqd) - dL/dq + dR/dqd - Q - C^T lambda      (n)
+ *   phi2  = d2phi/dt2 = C qdd + (d2phi/dq2)[qd, qd] + time terms  (m)
+ *   phi1  = dphi/dt = C qd + dphi/dt|q                            (m)
+ *   phi0  = phi                                                   (m)
+ *   P     = qd . (Q - dR/dqd) - dL/dt|(q,qd) [+ lambda . (C qd)]  (1)
+ *
+ * so that E = 0 and phi2 + 2 alpha phi1 + beta^2 phi0 = 0 are the
+ * equations the right-hand side solves (rhs.c) and P is the power whose
+ * negative the integrators integrate as the dissipated energy W (the
+ * last term only when the constraints read the time: then they do work).
+ * d/dt (dL/dqd) is the gradient tape of L differentiated along
+ * (qd, qdd, 1); phi1 and phi2 are the constraint tape differentiated
+ * along the motion once and twice.
+ *
+ * Differentiating the equations along a change of the state x = (q, qd)
+ * at fixed t, with X = d qdd/dx and Lam = d lambda/dx:
+ *   M X - C^T Lam = -dE/dx,   C X = -dK/dx   (K = phi2 + 2a phi1 + b^2 phi0)
+ * solved by the range-space method with the factors of the last
+ * evaluation: Lam = S^-1 (C M^-1 dE/dx - dK/dx), X = M^-1 (C^T Lam - dE/dx).
+ * dE/dx and dK/dx are one forward Jacobian sweep of the residual tape
+ * with 2n directions, which holds third derivatives of L; no difference
+ * quotient is taken anywhere.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "eom_internal.h"
+
+typedef struct res_rec {
+    const eom_system *s;
+    const tp_tape *G;    /* gradient of L over its independents */
+    const tp_tape *Phi1; /* (phi, dphi/dt[, C qd]) over (q, qd[, t]) */
+    int status;
+} res_rec;
+
+/* Values for the parameters of tape t in r: the time parameter of the E
+ * and R tapes is bound to the time independent, the others are declared
+ * in r by name. */
+static int bind_params(tp_rec *r, const tp_tape *t, tp_val time,
+                       tp_val *par)
+{
+    int k, np = tp_tape_n_params(t);
+    for (k = 0; k < np; k++) {
+        const char *name = tp_tape_param_name(t, k);
+        par[k] = strcmp(name, EOM_TIME_NAME) == 0
+                     ? time
+                     : tp_param(r, name, tp_tape_param_default(t, k));
+    }
+    return tp_rec_status(r);
+}
+
+/* Weights selecting output out of tape t. */
+static void select_output(tp_rec *r, const tp_tape *t, int out, tp_val *w)
+{
+    int o;
+    for (o = 0; o < tp_tape_n_outputs(t); o++)
+        w[o] = tp_const(r, o == out ? 1.0 : 0.0);
+}
+
+/* One scratch array of handles for everything a recording below needs:
+ * sized by the largest count of independents, parameters and outputs. */
+static tp_val *handles(const eom_system *s, size_t *count)
+{
+    const size_t n = (size_t)s->n, m = (size_t)s->m;
+    const tp_tape *tapes[5];
+    size_t most = 3 * n + m + 2, k;
+    tapes[0] = s->tL.tape;
+    tapes[1] = s->tR.tape;
+    tapes[2] = s->tQ.tape;
+    tapes[3] = s->tphi.tape;
+    tapes[4] = s->tE.tape;
+    for (k = 0; k < 5; k++)
+        if (tapes[k]) {
+            size_t c = (size_t)tp_tape_n_params(tapes[k]) +
+                       (size_t)tp_tape_n_outputs(tapes[k]) +
+                       (size_t)tp_tape_n_indep(tapes[k]);
+            if (c > most)
+                most = c;
+        }
+    *count = most;
+    return malloc(12 * most * sizeof(tp_val));
+}
+
+/* The gradient tape of L: the same independents, every partial an
+ * output (dL/dq, dL/dqd, and dL/dt last when L reads the time). */
+static int rec_gradient(tp_rec *r, void *user)
+{
+    res_rec *a = user;
+    const tp_tape *L = a->s->tL.tape;
+    const int ni = tp_tape_n_indep(L);
+    size_t cnt;
+    tp_val *h = handles(a->s, &cnt), *x, *w, *g;
+    char name[24];
+    int i;
+    if (!h)
+        return a->status = EOM_ERR_NOMEM, 1;
+    x = h;
+    w = h + cnt;
+    g = h + 2 * cnt;
+    for (i = 0; i < ni; i++)
+        x[i] = tp_indep(r, i);
+    select_output(r, L, 0, w);
+    tp_call_vjp(r, L, x, NULL, w, NULL, g, NULL);
+    for (i = 0; i < ni; i++) {
+        snprintf(name, sizeof name, "dL%d", i);
+        tp_output(r, name, g[i]);
+    }
+    free(h);
+    return 0;
+}
+
+/* phi, its rate along the motion (qd, 1) and, when the constraints read
+ * the time, C qd alone: independents (q, qd[, t]). */
+static int rec_phi1(tp_rec *r, void *user)
+{
+    res_rec *a = user;
+    const eom_system *s = a->s;
+    const tp_tape *P = s->tphi.tape;
+    const int n = s->n, m = s->m, timed = s->tphi.tindex >= 0;
+    size_t cnt;
+    tp_val *h = handles(s, &cnt), *x, *d, *y, *dy, *cq;
+    char name[24];
+    int i;
+    if (!h)
+        return a->status = EOM_ERR_NOMEM, 1;
+    x = h;
+    d = h + cnt;
+    y = h + 2 * cnt;
+    dy = h + 3 * cnt;
+    cq = h + 4 * cnt;
+    for (i = 0; i < n; i++) {
+        x[i] = tp_indep(r, i);
+        d[i] = tp_indep(r, n + i);
+    }
+    if (timed) {
+        x[n] = tp_indep(r, 2 * n);
+        d[n] = tp_const(r, 0.0);
+        tp_call_jvp(r, P, x, NULL, d, NULL, NULL, cq);
+        d[n] = tp_const(r, 1.0);
+    }
+    tp_call_jvp(r, P, x, NULL, d, NULL, y, dy);
+    for (i = 0; i < m; i++) {
+        snprintf(name, sizeof name, "phi%d", i);
+        tp_output(r, name, y[i]);
+    }
+    for (i = 0; i < m; i++) {
+        snprintf(name, sizeof name, "phid%d", i);
+        tp_output(r, name, dy[i]);
+    }
+    for (i = 0; timed && i < m; i++) {
+        snprintf(name, sizeof name, "Cqd%d", i);
+        tp_output(r, name, cq[i]);
+    }
+    free(h);
+    return 0;
+}
+
+/* The residual tape over z = (q, qd, qdd, lambda, t). */
+static int rec_residual(tp_rec *r, void *user)
+{
+    res_rec *a = user;
+    const eom_system *s = a->s;
+    const int n = s->n, m = s->m;
+    const int L_timed = s->tL.tindex >= 0, phi_timed = s->tphi.tindex >= 0;
+    size_t cnt;
+    tp_val *h = handles(s, &cnt), *z, *x, *d, *y, *dy, *w, *par, *E;
+    tp_val t, one, P;
+    char name[24];
+    int i;
+    if (!h)
+        return a->status = EOM_ERR_NOMEM, 1;
+    z = h;
+    x = h + cnt;
+    d = h + 2 * cnt;
+    y = h + 3 * cnt;
+    dy = h + 4 * cnt;
+    w = h + 5 * cnt;
+    par = h + 6 * cnt;
+    E = h + 7 * cnt;
+    for (i = 0; i < 3 * n + m + 1; i++)
+        z[i] = tp_indep(r, i);
+    t = z[3 * n + m];
+    one = tp_const(r, 1.0);
+
+    /* d/dt (dL/dqd) - dL/dq: the gradient tape along (qd, qdd, 1) */
+    for (i = 0; i < 2 * n; i++) {
+        x[i] = z[i];
+        d[i] = z[n + i];
+    }
+    x[2 * n] = t;
+    d[2 * n] = one;
+    tp_call_jvp(r, a->G, x, NULL, d, NULL, y, dy);
+    for (i = 0; i < n; i++)
+        E[i] = tp_sub(r, dy[n + i], y[i]);
+    P = L_timed ? tp_neg(r, y[2 * n]) : tp_const(r, 0.0);
+
+    if (s->has_R) { /* + dR/dqd; the power qd . (-dR/dqd) */
+        bind_params(r, s->tR.tape, t, par);
+        select_output(r, s->tR.tape, 0, w);
+        tp_call_vjp(r, s->tR.tape, x, par, w, NULL, dy, NULL);
+        for (i = 0; i < n; i++) {
+            E[i] = tp_add(r, E[i], dy[n + i]);
+            P = tp_sub(r, P, tp_mul(r, z[n + i], dy[n + i]));
+        }
+    }
+    if (s->has_Q) { /* - Q; the power qd . Q */
+        bind_params(r, s->tQ.tape, t, par);
+        tp_call(r, s->tQ.tape, x, par, y);
+        for (i = 0; i < n; i++) {
+            E[i] = tp_sub(r, E[i], y[i]);
+            P = tp_add(r, P, tp_mul(r, z[n + i], y[i]));
+        }
+    }
+    if (m > 0) {
+        /* - C^T lambda: the constraint tape's reverse sweep weighted by
+         * lambda */
+        for (i = 0; i < n; i++)
+            x[i] = z[i];
+        x[n] = t;
+        tp_call_vjp(r, s->tphi.tape, x, NULL, z + 3 * n, NULL, dy, NULL);
+        for (i = 0; i < n; i++)
+            E[i] = tp_sub(r, E[i], dy[i]);
+    }
+    for (i = 0; i < n; i++) {
+        snprintf(name, sizeof name, "E%d", i);
+        tp_output(r, name, E[i]);
+    }
+    if (m > 0) {
+        /* (phi, phi1[, C qd]) and their rates along (qd, qdd, 1) */
+        for (i = 0; i < 2 * n; i++) {
+            x[i] = z[i];
+            d[i] = z[n + i];
+        }
+        x[2 * n] = t;
+        d[2 * n] = one;
+        tp_call_jvp(r, a->Phi1, x, NULL, d, NULL, y, dy);
+        for (i = 0; i < m; i++) {
+            snprintf(name, sizeof name, "phi2_%d", i);
+            tp_output(r, name, dy[m + i]);
+        }
+        for (i = 0; i < m; i++) {
+            snprintf(name, sizeof name, "phi1_%d", i);
+            tp_output(r, name, y[m + i]);
+        }
+        for (i = 0; i < m; i++) {
+            snprintf(name, sizeof name, "phi0_%d", i);
+            tp_output(r, name, y[i]);
+        }
+        /* moving constraints do work: + lambda . (C qd) */
+        for (i = 0; phi_timed && i < m; i++)
+            P = tp_add(r, P, tp_mul(r, z[3 * n + i], y[2 * m + i]));
+    }
+    tp_output(r, "P", P);
+    free(h);
+    return 0;
+}
+
+/* Record one tape of n_indep independents in the given group layout. */
+static int record_tape(eom_system *s, int n_indep, const int *group_ends,
+                       tp_func f, res_rec *a, const char *what,
+                       tp_tape **out)
+{
+    unsigned char *grp = malloc((size_t)n_indep);
+    tp_rec *r = NULL;
+    int i, g = 0, rc;
+    if (!grp)
+        return eom__fail(s, EOM_ERR_NOMEM, "out of memory");
+    for (i = 0; i < n_indep; i++) {
+        while (i >= group_ends[g])
+            g++;
+        grp[i] = (unsigned char)g;
+    }
+    rc = tp_recorder_new(&r, n_indep, grp, NULL);
+    free(grp);
+    if (rc == TP_OK)
+        rc = tp_rec_run(r, NULL, f, a);
+    if (rc == TP_OK)
+        rc = tp_recorder_finish(r, out);
+    if (a->status != EOM_OK)
+        rc = eom__fail(s, a->status, "recording the %s: out of memory",
+                       what);
+    else if (rc != TP_OK)
+        rc = eom__fail(s, rc == TP_ERR_NOMEM ? EOM_ERR_NOMEM
+                                             : EOM_ERR_RECORD,
+                       "recording the %s: %s", what,
+                       r ? tp_rec_errmsg(r) : tp_strerror(rc));
+    else
+        rc = EOM_OK;
+    tp_rec_free(&r);
+    return rc;
+}
+
+int eom__record_residual(eom_system *s)
+{
+    const int n = s->n, m = s->m;
+    const int nL = tp_tape_n_indep(s->tL.tape);
+    tp_tape *G = NULL, *Phi1 = NULL;
+    res_rec a;
+    int ends[6], rc, k;
+
+    memset(&a, 0, sizeof a);
+    a.s = s;
+    ends[0] = n;
+    ends[1] = 2 * n;
+    ends[2] = 2 * n + 1;
+    rc = record_tape(s, nL, ends, rec_gradient, &a,
+                     "gradient of the Lagrangian", &G);
+    if (rc == EOM_OK && m > 0) {
+        a.G = G;
+        rc = record_tape(s, 2 * n + (s->tphi.tindex >= 0), ends, rec_phi1,
+                         &a, "rates of the constraints", &Phi1);
+    }
+    if (rc == EOM_OK) {
+        a.G = G;
+        a.Phi1 = Phi1;
+        ends[0] = n;
+        ends[1] = 2 * n;
+        ends[2] = 3 * n;
+        ends[3] = 3 * n + m;
+        ends[4] = 3 * n + m + 1;
+        rc = record_tape(s, 3 * n + m + 1, ends, rec_residual, &a,
+                         "residual of the equations of motion",
+                         &s->tRes.tape);
+    }
+    tp_tape_free(&G);
+    tp_tape_free(&Phi1);
+    if (rc != EOM_OK)
+        return rc;
+    s->tRes.dirs = 2 * n;
+    s->tRes.tindex = -1;
+    s->tRes.tparam = -1;
+    s->tRes.tset = NAN;
+    s->tRes.pmap = malloc((size_t)(s->np ? s->np : 1) * sizeof(int));
+    if (!s->tRes.pmap)
+        return eom__fail(s, EOM_ERR_NOMEM, "out of memory");
+    for (k = 0; k < s->np; k++)
+        s->tRes.pmap[k] = tp_tape_param_index(s->tRes.tape,
+                                              s->params[k].name);
+    return EOM_OK;
+}
+
+/* The residual tape's workspace and the Jacobian's scratch, made on
+ * first use (most runs never ask for a Jacobian). */
+static int jac_ready(eom_system *s)
+{
+    const size_t n = (size_t)s->n, m = (size_t)s->m;
+    const size_t rows = n + 3 * m + 1;
+    int k;
+    if (s->tRes.ws)
+        return EOM_OK;
+    if (!s->tRes.tape)
+        return eom__fail(s, EOM_ERR_MODEL,
+                         "the system has no residual tape");
+    s->jz = malloc((3 * n + m + 1) * sizeof(double));
+    s->jres = malloc(rows * 2 * n * sizeof(double));
+    s->jB = malloc(n * 2 * n * sizeof(double));
+    s->jy = malloc(rows * sizeof(double));
+    if (!s->jz || !s->jres || !s->jB || !s->jy ||
+        tp_ws_new(&s->tRes.ws, s->tRes.tape, s->tRes.dirs, NULL) != TP_OK)
+        return eom__fail(s, EOM_ERR_NOMEM,
+                         "out of memory for the Jacobian of the state "
+                         "derivative");
+    for (k = 0; k < s->np; k++)
+        if (s->tRes.pmap[k] >= 0)
+            tp_ws_set_param(s->tRes.ws, s->tRes.pmap[k], s->pval[k]);
+    return EOM_OK;
+}
+
+int eom__state_jacobian(eom_system *s, double t, const double *x,
+                        double *A, int lda, int with_power)
+{
+    const int n = s->n, m = s->m, n2 = 2 * n;
+    const double *qd = x + n;
+    double *Jr, *B;
+    int i, j, k, rc, st;
+
+    if ((rc = jac_ready(s)) != EOM_OK)
+        return rc;
+    if ((rc = eom__evaluate(s, t, x)) != EOM_OK)
+        return rc;
+    memcpy(s->jz, x, (size_t)n2 * sizeof(double));
+    memcpy(s->jz + n2, s->qdd, (size_t)n * sizeof(double));
+    if (m > 0)
+        memcpy(s->jz + 3 * n, s->lam, (size_t)m * sizeof(double));
+    s->jz[3 * n + m] = t;
+    Jr = s->jres;
+    st = tp_jacobian(s->tRes.ws, s->jz, 0, n2, s->jy, Jr);
+    if ((rc = eom__tape_status(s, st, "the Jacobian of the equations")))
+        return rc;
+    /* B = M^-1 dE/dx, column-major n x 2n */
+    B = s->jB;
+    for (j = 0; j < n2; j++)
+        for (i = 0; i < n; i++)
+            B[(size_t)j * n + i] = Jr[(size_t)i * n2 + j];
+    if ((rc = eom__mass_solve(s, B, n2)) != EOM_OK)
+        return rc;
+    /* A's columns: dq/dx = [0 I], d qdd/dx = X; dW/dx = -dP/dx */
+    for (j = 0; j < n2; j++) {
+        double *col = A + (size_t)j * (size_t)lda, *Bj = B + (size_t)j * n;
+        double *lam = s->wm;
+        for (i = 0; i < n; i++)
+            col[i] = i + n == j ? 1.0 : 0.0;
+        for (i = 0; i < n; i++)
+            col[n + i] = -Bj[i];
+        if (m > 0) {
+            /* Lam_j = S^-1 (C B_j - dK/dx_j) */
+            for (k = 0; k < m; k++) {
+                const double *Ck = s->C + (size_t)k * n;
+                double cb = 0.0;
+                const size_t r2 = (size_t)(n + k), r1 = r2 + (size_t)m,
+                             r0 = r1 + (size_t)m;
+                for (i = 0; i < n; i++)
+                    cb += Ck[i] * Bj[i];
+                lam[k] = cb - (Jr[r2 * n2 + j] +
+                               2.0 * s->alpha * Jr[r1 * n2 + j] +
+                               s->beta * s->beta * Jr[r0 * n2 + j]);
+            }
+            if ((rc = eom__S_solve(s, lam)) != EOM_OK)
+                return rc;
+            for (k = 0; k < m; k++)
+                for (i = 0; i < n; i++)
+                    col[n + i] += s->Y[(size_t)k * n + i] * lam[k];
+        }
+        if (with_power) {
+            double dP = Jr[(size_t)(n + 3 * m) * n2 + j];
+            /* moving constraints: P holds lambda . (C qd) at fixed
+             * lambda; add its change through lambda, (C qd) . Lam_j */
+            if (s->tphi.tindex >= 0) {
+                for (k = 0; k < m; k++) {
+                    const double *Ck = s->C + (size_t)k * n;
+                    double cqd = 0.0;
+                    for (i = 0; i < n; i++)
+                        cqd += Ck[i] * qd[i];
+                    dP += cqd * lam[k];
+                }
+            }
+            col[n2] = -dP;
+        }
+    }
+    if (with_power)
+        for (i = 0; i <= n2; i++)
+            A[(size_t)n2 * (size_t)lda + (size_t)i] = 0.0;
+    return EOM_OK;
+}
+
+int eom_state_jacobian(eom_system *s, double t, const double *x, double *A)
+{
+    const int n2 = s ? 2 * s->n : 0;
+    double *Ac;
+    int i, j, rc;
+    if (!s)
+        return EOM_ERR_NULL;
+    s->msg[0] = '\0';
+    if (!x || !A)
+        return eom__fail(s, EOM_ERR_NULL,
+                         "eom_state_jacobian: x or A is NULL");
+    Ac = malloc((size_t)n2 * (size_t)n2 * sizeof(double));
+    if (!Ac)
+        return eom__fail(s, EOM_ERR_NOMEM, "out of memory");
+    rc = eom__state_jacobian(s, t, x, Ac, n2, 0);
+    if (rc == EOM_OK)
+        for (i = 0; i < n2; i++)
+            for (j = 0; j < n2; j++)
+                A[(size_t)i * n2 + j] = Ac[(size_t)j * n2 + i];
+    free(Ac);
+    if (rc == EOM_OK)
+        s->msg[0] = '\0';
+    return rc;
+}

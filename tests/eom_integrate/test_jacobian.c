@@ -1,0 +1,368 @@
+/* test_jacobian.c - the exact Jacobian of the state derivative
+ * (eom_state_jacobian, from the residual tape) against two other routes.
+ *
+ *   1. Fourth-order central differences of eom_rhs, to 1e-7 of the
+ *      largest entry, on every shipped model (constraints, moving
+ *      constraints, dissipation, forces that read the time, flexible
+ *      links) and on inline models for what those lack: a Lagrangian
+ *      that reads the time, a force of the rates (qd^3, gyroscopic
+ *      coupling), structural damping; at the initial state and at two
+ *      states off it, at t = 0.37; with Baumgarte terms on the closed
+ *      chain; after a parameter changes; on a clone (equal bit for bit).
+ *   2. White-box: the row of the dissipated energy W that the implicit
+ *      integrators add (eom__state_jacobian with_power) against central
+ *      differences of -power.
+ *   3. At rest, against the linearization's matrices (second derivatives
+ *      from separate sweeps): N^T M (dqdd/dq) N = -N^T K N and
+ *      N^T M (dqdd/dqd) N = -N^T D N to 1e-11, on the double pendulum,
+ *      the spring pendulum with damping and the four-bar at rest.
+ *   4. Bad input: NULL arguments and a non-finite state are errors with a
+ *      message, and A is left alone.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "eom/eom.h"
+#include "eom/model_file.h"
+#include "eom_internal.h"
+
+#define TJ 0.37
+
+static const char *models_dir = "models";
+
+/* Inline models for what the shipped ones lack. */
+static const char *const time_L =
+    "units off\nparam m = 1.3\nparam k = 4\nparam w = 3\nparam g = 9.81\n"
+    "coord a = 0.4 rate 0.3\ncoord b = -0.2 rate 0.5\n"
+    "T = 1/2*m*(a_dot^2 + (1 + 0.2*sin(w*t))*b_dot^2 + a_dot*b_dot*cos(a-b))\n"
+    "V = 1/2*k*(1 + 0.3*cos(w*t))*(a^2 + a*b + b^2) + m*g*(1-cos(a))\n";
+static const char *const rate_forces =
+    "units off\nparam m = 0.7\nparam c = 0.4\nparam G = 1.5\nparam k = 3\n"
+    "coord x = 0.3 rate 0.8\ncoord y = -0.4 rate -0.2\n"
+    "T = 1/2*m*(x_dot^2 + y_dot^2)\n"
+    "V = 1/2*k*(x^2 + y^2) + 1/4*k*x^2*y^2\n"
+    "R = 1/2*c*(x_dot^2 + x_dot*y_dot + y_dot^2)\n"
+    "force x = -c*x_dot^3 + G*y_dot\n"
+    "force y = -G*x_dot + 0.1*sin(t)*x\n";
+
+static const char *const damped =
+    "units off\nparam m = 0.7\nparam c = 0.4\nparam k = 3\n"
+    "coord x = 0.3\ncoord y = -0.4\n"
+    "T = 1/2*m*(x_dot^2 + y_dot^2 + x_dot*y_dot*cos(x))\n"
+    "V = 1/2*k*(x^2 + y^2) + 1/4*k*x^2*y^2\n"
+    "R = 1/2*c*(x_dot^2 + x_dot*y_dot + y_dot^2)\n";
+
+static eom_system *system_of(const char *what, int is_file)
+{
+    eom_model *md = NULL;
+    eom_system *s = NULL;
+    char err[512], path[1024];
+    int rc;
+    if (is_file) {
+        snprintf(path, sizeof path, "%s/%s", models_dir, what);
+        rc = eom_model_from_file(&md, path, err, sizeof err);
+    } else {
+        rc = eom_model_from_string(&md, what, err, sizeof err);
+    }
+    CHECK_INT(rc, EOM_OK);
+    if (rc != EOM_OK) {
+        fprintf(stderr, "%s: %s\n", is_file ? what : "inline model", err);
+        return NULL;
+    }
+    rc = eom_system_new(&s, md, err, sizeof err);
+    CHECK_INT(rc, EOM_OK);
+    if (rc != EOM_OK)
+        fprintf(stderr, "%s\n", err);
+    eom_model_free(&md);
+    return s;
+}
+
+/* d(xd)/dx by fourth-order central differences of eom_rhs: column j of
+ * Afd (row-major 2n x 2n). */
+static int fd_jacobian(eom_system *s, double t, const double *x,
+                       double *Afd)
+{
+    static const double step[4] = {1.0, -1.0, 2.0, -2.0};
+    static const double coef[4] = {8.0, -8.0, -1.0, 1.0};
+    const int n2 = 2 * eom_system_ncoords(s);
+    double *xp = malloc((size_t)n2 * sizeof *xp);
+    double *f = malloc((size_t)n2 * sizeof *f);
+    int i, j, k, rc = 0;
+    for (j = 0; j < n2 && rc == 0; j++) {
+        const double h = 1e-4 * (1.0 + fabs(x[j]));
+        for (i = 0; i < n2; i++)
+            Afd[i * n2 + j] = 0.0;
+        for (k = 0; k < 4 && rc == 0; k++) {
+            memcpy(xp, x, (size_t)n2 * sizeof *xp);
+            xp[j] += step[k] * h;
+            rc = eom_rhs(s, t, xp, f);
+            for (i = 0; i < n2; i++)
+                Afd[i * n2 + j] += coef[k] * f[i] / (12.0 * h);
+        }
+    }
+    free(xp);
+    free(f);
+    return rc;
+}
+
+static double max_abs(const double *a, int n)
+{
+    double m = 0.0;
+    int i;
+    for (i = 0; i < n; i++)
+        m = fmax(m, fabs(a[i]));
+    return m;
+}
+
+/* eom_state_jacobian against differences at (t, x); returns the relative
+ * error. */
+static double check_at(eom_system *s, double t, const double *x,
+                       const char *ctx)
+{
+    const int n2 = 2 * eom_system_ncoords(s);
+    const size_t nn = (size_t)n2 * (size_t)n2;
+    double *A = malloc(nn * sizeof *A), *Afd = malloc(nn * sizeof *Afd);
+    double err = INFINITY;
+    size_t k;
+    CHECK_INT(eom_state_jacobian(s, t, x, A), EOM_OK);
+    CHECK_INT(fd_jacobian(s, t, x, Afd), 0);
+    err = 0.0;
+    for (k = 0; k < nn; k++)
+        err = fmax(err, fabs(A[k] - Afd[k]));
+    err /= max_abs(Afd, (int)nn);
+    if (!(err <= 1e-7))
+        CHECK_FAIL_("%s: Jacobian against differences: %.3g > 1e-7", ctx,
+                    err);
+    free(A);
+    free(Afd);
+    return err;
+}
+
+/* The W row (white-box) against differences of -power. */
+static void check_power_row(eom_system *s, double t, const double *x,
+                            const char *ctx)
+{
+    const int n = eom_system_ncoords(s), n2 = 2 * n, N = n2 + 1;
+    double *A = calloc((size_t)N * (size_t)N, sizeof *A);
+    double *xp = malloc((size_t)n2 * sizeof *xp), fd, scale = 0.0, err = 0.0;
+    int j;
+    CHECK_INT(eom__state_jacobian(s, t, x, A, N, 1), EOM_OK);
+    for (j = 0; j < n2; j++) {
+        const double h = 1e-5 * (1.0 + fabs(x[j]));
+        double pp, pm;
+        memcpy(xp, x, (size_t)n2 * sizeof *xp);
+        xp[j] += h;
+        CHECK_INT(eom__evaluate(s, t, xp), EOM_OK);
+        pp = s->power;
+        xp[j] -= 2.0 * h;
+        CHECK_INT(eom__evaluate(s, t, xp), EOM_OK);
+        pm = s->power;
+        fd = -(pp - pm) / (2.0 * h);
+        scale = fmax(scale, fabs(fd));
+        err = fmax(err, fabs(A[(size_t)j * N + n2] - fd));
+        CHECK(A[(size_t)n2 * N + j] == 0.0); /* nothing depends on W */
+    }
+    if (!(err <= 1e-6 * fmax(scale, 1e-3)))
+        CHECK_FAIL_("%s: W row against differences: %.3g (scale %.3g)",
+                    ctx, err, scale);
+    free(A);
+    free(xp);
+}
+
+/* Initial state, and two states off it (not projected: the Jacobian of
+ * the stabilized equations is defined off the constraints too). */
+static void states(eom_system *s, double *x, int which)
+{
+    const int n2 = 2 * eom_system_ncoords(s);
+    int i;
+    eom_initial_state(s, x);
+    for (i = 0; i < n2 && which > 0; i++)
+        x[i] += (which == 1 ? 0.05 : -0.03) * sin(1.7 * i + which) +
+                (i >= n2 / 2 ? 0.2 * which : 0.0);
+}
+
+static void one_model(const char *label, const char *what, int is_file)
+{
+    eom_system *s = system_of(what, is_file), *c = NULL;
+    char ctx[256];
+    double x[256];
+    int k;
+    if (!s)
+        return;
+    for (k = 0; k < 3; k++) {
+        double err;
+        snprintf(ctx, sizeof ctx, "%s state %d", label, k);
+        states(s, x, k);
+        err = check_at(s, TJ, x, ctx);
+        printf("%-22s state %d: |A - differences| / |A| = %.2e\n", label,
+               k, err);
+        check_power_row(s, TJ, x, ctx);
+    }
+    /* a parameter changed: the Jacobian follows it */
+    if (eom_system_nparams(s) > 0) {
+        const double p0 = eom_get_param(s, 0);
+        CHECK_INT(eom_set_param(s, 0, 1.37 * p0 + 0.1), EOM_OK);
+        states(s, x, 1);
+        snprintf(ctx, sizeof ctx, "%s, %s changed", label,
+                 eom_param_name(s, 0));
+        check_at(s, TJ, x, ctx);
+    }
+    /* a clone gives the same Jacobian, bit for bit */
+    CHECK_INT(eom_system_clone(&c, s, NULL, 0), EOM_OK);
+    if (c) {
+        const int n2 = 2 * eom_system_ncoords(s);
+        double *A1 = malloc((size_t)n2 * n2 * sizeof *A1);
+        double *A2 = malloc((size_t)n2 * n2 * sizeof *A2);
+        states(s, x, 2);
+        CHECK_INT(eom_state_jacobian(s, TJ, x, A1), EOM_OK);
+        CHECK_INT(eom_state_jacobian(c, TJ, x, A2), EOM_OK);
+        CHECK(memcmp(A1, A2, (size_t)n2 * n2 * sizeof *A1) == 0);
+        free(A1);
+        free(A2);
+        eom_system_free(&c);
+    }
+    eom_system_free(&s);
+}
+
+static void baumgarte(void)
+{
+    eom_system *s = system_of("closed-chain.eom", 1);
+    double x[256];
+    if (!s)
+        return;
+    CHECK_INT(eom_set_baumgarte(s, 2.0, 3.0), EOM_OK);
+    states(s, x, 1);
+    check_at(s, TJ, x, "closed-chain.eom with Baumgarte 2, 3");
+    eom_system_free(&s);
+}
+
+/* ---- at rest: the linearization's matrices ----------------------------- */
+
+/* max |a - b| <= tol * scale, or a failure naming the case. */
+static void close_scaled(const char *label, const char *what,
+                         const double *a, const double *b, int n,
+                         double scale, double tol)
+{
+    double e = 0.0;
+    int i;
+    for (i = 0; i < n; i++)
+        e = fmax(e, fabs(a[i] - b[i]));
+    if (!(e <= tol * scale))
+        CHECK_FAIL_("%s: %s: %.3g > %.3g", label, what, e, tol * scale);
+}
+
+/* P = N^T M Z N (nr x nr) for Z n x n row-major, N n x nr row-major. */
+static void project(int n, int nr, const double *N, const double *M,
+                    const double *Z, double *P)
+{
+    double *MZ = calloc((size_t)n * n, sizeof *MZ);
+    int i, j, k, l;
+    for (i = 0; i < n; i++)
+        for (j = 0; j < n; j++)
+            for (k = 0; k < n; k++)
+                MZ[i * n + j] += M[i * n + k] * Z[k * n + j];
+    for (i = 0; i < nr; i++)
+        for (j = 0; j < nr; j++) {
+            double sum = 0.0;
+            for (k = 0; k < n; k++)
+                for (l = 0; l < n; l++)
+                    sum += N[k * nr + i] * MZ[k * n + l] * N[l * nr + j];
+            P[i * nr + j] = sum;
+        }
+    free(MZ);
+}
+
+static void at_rest(const char *label, const char *what, int is_file,
+                    const char *damp_param)
+{
+    eom_system *s = system_of(what, is_file);
+    eom_linear lin;
+    double x[256], *A, *Zq, *Zd, *P;
+    int n, n2, nr, i, j;
+    if (!s)
+        return;
+    n = eom_system_ncoords(s);
+    n2 = 2 * n;
+    if (damp_param) /* give the dissipation something to do */
+        CHECK_INT(eom_set_param(s, eom_param_index(s, damp_param), 0.35),
+                  EOM_OK);
+    eom_initial_state(s, x);
+    CHECK_INT(eom_equilibrium(s, x, 1e-13, NULL), EOM_OK);
+    for (i = 0; i < n; i++)
+        x[n + i] = 0.0;
+    memset(&lin, 0, sizeof lin);
+    CHECK_INT(eom_linearize(s, x, &lin), EOM_OK);
+    nr = lin.nr;
+    A = malloc((size_t)n2 * n2 * sizeof *A);
+    Zq = malloc((size_t)n * n * sizeof *Zq);
+    Zd = malloc((size_t)n * n * sizeof *Zd);
+    P = malloc((size_t)(nr ? nr : 1) * (nr ? nr : 1) * sizeof *P);
+    CHECK_INT(eom_state_jacobian(s, 0.0, x, A), EOM_OK);
+    for (i = 0; i < n; i++)
+        for (j = 0; j < n; j++) {
+            Zq[i * n + j] = -A[(n + i) * n2 + j];
+            Zd[i * n + j] = -A[(n + i) * n2 + n + j];
+        }
+    project(n, nr, lin.N, lin.M, Zq, P);
+    close_scaled(label, "N'M dqdd/dq N = -Kr", P, lin.Kr, nr * nr,
+                 max_abs(lin.Kr, nr * nr), 1e-11);
+    project(n, nr, lin.N, lin.M, Zd, P);
+    close_scaled(label, "N'M dqdd/dqd N = -Dr", P, lin.Dr, nr * nr,
+                 fmax(max_abs(lin.Dr, nr * nr), 1e-12), 1e-11);
+    if (damp_param)
+        CHECK(max_abs(lin.Dr, nr * nr) > 0.01);
+    printf("%-22s at rest: K and D of the linearization agree\n", label);
+    free(A);
+    free(Zq);
+    free(Zd);
+    free(P);
+    eom_linear_free(&lin);
+    eom_system_free(&s);
+}
+
+static void bad_input(void)
+{
+    eom_system *s = system_of("double-pendulum.eom", 1);
+    double x[4], A[16];
+    int k;
+    if (!s)
+        return;
+    eom_initial_state(s, x);
+    CHECK_INT(eom_state_jacobian(NULL, 0.0, x, A), EOM_ERR_NULL);
+    CHECK_INT(eom_state_jacobian(s, 0.0, NULL, A), EOM_ERR_NULL);
+    CHECK_INT(eom_state_jacobian(s, 0.0, x, NULL), EOM_ERR_NULL);
+    CHECK(strstr(eom_system_errmsg(s), "eom_state_jacobian") != NULL);
+    for (k = 0; k < 16; k++)
+        A[k] = 7.0;
+    x[1] = NAN;
+    CHECK_INT(eom_state_jacobian(s, 0.0, x, A), EOM_ERR_NONFINITE);
+    CHECK(strstr(eom_system_errmsg(s), "not finite") != NULL);
+    for (k = 0; k < 16; k++)
+        CHECK(A[k] == 7.0);
+    eom_system_free(&s);
+}
+
+int main(int argc, char **argv)
+{
+    static const char *const files[] = {
+        "spring-pendulum.eom", "double-pendulum.eom", "open-chain.eom",
+        "closed-chain.eom", "four-bar.eom", "cart-pole.eom",
+        "driven-crank.eom"};
+    size_t k;
+    if (argc > 1)
+        models_dir = argv[1];
+    for (k = 0; k < sizeof files / sizeof files[0]; k++)
+        one_model(files[k], files[k], 1);
+    one_model("L reads the time", time_L, 0);
+    one_model("forces of the rates", rate_forces, 0);
+    one_model("damped", damped, 0);
+    baumgarte();
+    at_rest("double-pendulum.eom", "double-pendulum.eom", 1, NULL);
+    at_rest("damped", damped, 0, "c");
+    at_rest("four-bar.eom", "four-bar.eom", 1, NULL);
+    bad_input();
+    CHECK_DONE();
+}
