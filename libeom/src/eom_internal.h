@@ -211,6 +211,17 @@ int eom__record_residual(eom_system *s);
  * (A is then (2n + 1) square). Leaves s evaluated at (t, x). */
 int eom__state_jacobian(eom_system *s, double t, const double *x,
                         double *A, int lda, int with_power);
+/* residual.c: the residual tape's Jacobian at z = (x, qdd, lambda, t) over
+ * (q, qd, qdd, lambda): J row-major, n + 3m + 1 rows (E, phi2, phi1,
+ * phi0, P) by 3n + m columns. */
+int eom__residual_jacobian(eom_system *s, double t, const double *x,
+                           const double *qdd, const double *lam,
+                           double *J);
+/* residual.c: IDA's iteration matrix dG/dY + cj dG/dY' for the index-1
+ * residual G of integrate_ida.c at (Y, Yp), Y = (q, v, lambda, W):
+ * (2n + m + 1) square, column-major with leading dimension ldj. */
+int eom__dae_jacobian(eom_system *s, double t, const double *Y,
+                      const double *Yp, double cj, double *J, int ldj);
 
 /* rhs.c: the non-conservative generalized forces at (t, x), -dR/dqd + Q,
  * into s->Qv, and their power qd . Qv into s->power (uses s->wn). */

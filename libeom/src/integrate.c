@@ -44,6 +44,7 @@ void eom_opts_default(eom_opts *o)
     o->erk_table = NULL;
     o->tol_per_step = 0;
     o->max_order = 0;
+    o->dq_jacobian = 0;
 }
 
 int eom__integ_top_order(eom_method m)
@@ -206,6 +207,16 @@ int eom__integ_rhs(eom_integ *it, double t, const double *y, double *yd)
     memcpy(yd + n, s->qdd, (size_t)n * sizeof(double));
     yd[2 * n] = -s->power;
     return EOM_OK;
+}
+
+int eom__integ_jacobian(eom_integ *it, double t, const double *y,
+                        double *J, int ldj)
+{
+    int rc = eom__state_jacobian(it->s, t, y, J, ldj, 1);
+    if (rc != EOM_OK)
+        snprintf(it->msg, sizeof it->msg, "at t = %.17g: %s", t,
+                 it->s->msg);
+    return rc;
 }
 
 int eom__integ_stretch_done(eom_integ *it, double t)

@@ -5,7 +5,9 @@
  *          nonlinear solver: no Jacobian, for non-stiff models.
  *   BDF    CV_BDF (orders 1..5) with Newton iteration and a dense direct
  *          linear solver (SUNDenseMatrix + SUNLinSol_Dense); the Jacobian
- *          is CVODE's difference quotient, N extra right-hand sides each.
+ *          is exact, from the residual tape (cv_jac, residual.c), or with
+ *          eom_opts.dq_jacobian CVODE's difference quotient (N extra
+ *          right-hand sides each), kept as a reference.
  *
  * Output times: each advance sets the stop time to tout, so the solver
  * never steps past it and the state returned is the step that ends there.
@@ -77,6 +79,21 @@ static int cv_rhs(sunrealtype t, N_Vector y, N_Vector yd, void *user)
     int rc = eom__integ_rhs(it, t, N_VGetArrayPointer(y),
                             N_VGetArrayPointer(yd));
     return cv_cb_result(it, it->impl, rc);
+}
+
+/* BDF's Newton matrix: the exact d(yd)/dy, W's row included. */
+static int cv_jac(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J,
+                  void *user, N_Vector t1, N_Vector t2, N_Vector t3)
+{
+    eom_integ *it = user;
+    (void)fy;
+    (void)t1;
+    (void)t2;
+    (void)t3;
+    return cv_cb_result(it, it->impl,
+                        eom__integ_jacobian(it, t, N_VGetArrayPointer(y),
+                                            SM_DATA_D(J),
+                                            (int)SM_ROWS_D(J)));
 }
 
 /* e[0..n) -= Y S^-1 C e[0..n): the M-orthogonal projection onto the null
@@ -217,6 +234,8 @@ static int cv_init_method(eom_integ *it, cvode *c)
         return eom__integ_nomem(it);
     if ((flag = CVodeSetLinearSolver(c->mem, c->LS, c->A)) < 0)
         return cv_setup_failed(it, flag, "CVodeSetLinearSolver");
+    if (!it->o.dq_jacobian && (flag = CVodeSetJacFn(c->mem, cv_jac)) < 0)
+        return cv_setup_failed(it, flag, "CVodeSetJacFn");
     if (m > 0 && it->o.project &&
         (flag = CVodeSetProjFn(c->mem, cv_project)) < 0)
         return cv_setup_failed(it, flag, "CVodeSetProjFn");

@@ -6,8 +6,10 @@
  * explicit methods' steps are bound by stability, not accuracy.
  *
  * Each stage is solved by Newton's method with a dense direct linear
- * solver; the Jacobian of the right-hand side is ARKODE's difference
- * quotient (N extra right-hand sides each), as for bdf. The method
+ * solver; the Jacobian of the right-hand side is exact, from the residual
+ * tape (dk_jac, residual.c), or with eom_opts.dq_jacobian ARKODE's
+ * difference quotient (N extra right-hand sides each), as for bdf. The
+ * method
  * advances with its order-5 solution: like erk, its global error stays
  * near the tolerance without the multistep methods' calibration.
  *
@@ -51,6 +53,21 @@ static int dk_rhs(sunrealtype t, N_Vector y, N_Vector yd, void *user)
     int rc = eom__integ_rhs(it, t, N_VGetArrayPointer(y),
                             N_VGetArrayPointer(yd));
     return dk_cb_result(it, it->impl, rc);
+}
+
+/* The Newton matrix's Jacobian: the exact d(yd)/dy, W's row included. */
+static int dk_jac(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J,
+                  void *user, N_Vector t1, N_Vector t2, N_Vector t3)
+{
+    eom_integ *it = user;
+    (void)fy;
+    (void)t1;
+    (void)t2;
+    (void)t3;
+    return dk_cb_result(it, it->impl,
+                        eom__integ_jacobian(it, t, N_VGetArrayPointer(y),
+                                            SM_DATA_D(J),
+                                            (int)SM_ROWS_D(J)));
 }
 
 /* With constraints, after each accepted step: project y in place (or
@@ -136,6 +153,8 @@ static int dk_init(eom_integ *it)
         return eom__integ_nomem(it);
     if ((flag = ARKStepSetLinearSolver(d->mem, d->LS, d->A)) < 0)
         return dk_setup_failed(it, flag, "ARKStepSetLinearSolver");
+    if (!it->o.dq_jacobian && (flag = ARKStepSetJacFn(d->mem, dk_jac)) < 0)
+        return dk_setup_failed(it, flag, "ARKStepSetJacFn");
     /* explicitly: the default of 500 would stop tight-tolerance runs */
     if ((flag = ARKStepSetMaxNumSteps(d->mem, it->o.max_steps)) < 0)
         return dk_setup_failed(it, flag, "ARKStepSetMaxNumSteps");

@@ -1,6 +1,8 @@
 /* integrate_ida.c - EOM_IDA: IDA (variable-order BDF for implicit DAEs,
- * Newton iteration, dense direct linear solver with IDA's difference-
- * quotient Jacobian) on the index-1 form of Lagrange's equations.
+ * Newton iteration, dense direct linear solver) on the index-1 form of
+ * Lagrange's equations, with the exact iteration matrix dG/dY + cj dG/dY'
+ * from the residual tape (ida_jac), or with eom_opts.dq_jacobian IDA's
+ * difference quotients, kept as a reference.
  *
  * Unknowns Y = (q, v, lambda, W): n + n + m + 1 values. Residuals
  *
@@ -10,8 +12,11 @@
  *     W' + P(q, v, t)                   = 0   (1)
  *
  * with F = dL/dq - (d2L/dqd dq) v - dR/dqd + Q, gamma = -(d2phi/dq2)[v, v]
- * (minus the Baumgarte terms when they are on) and P = v . (-dR/dqd + Q),
- * all from one eom__evaluate at (t, q, v). The constraints enter at
+ * (minus the Baumgarte terms when they are on) and P = v . (-dR/dqd + Q)
+ * (- dL/dt, + lambda . (C v) when the constraints read the time, with
+ * this lambda), all from one eom__evaluate at (t, q, v). These are the
+ * outputs E, phi2 + 2 alpha phi1 + beta^2 phi0 and P of the residual tape
+ * (residual.c) at (q, v, v', lambda, t), whose Jacobian gives ida_jac's. The constraints enter at
  * acceleration level only, so lambda is algebraic and the index is 1
  * (the matrix [M -C^T; C 0] is nonsingular when C has full rank). lambda
  * is flagged algebraic (IDASetId) and left out of the error test
@@ -103,12 +108,43 @@ static int ida_res(sunrealtype t, N_Vector yy, N_Vector yp, N_Vector rr,
         r[2 * n + j] = sum;
     }
     r[2 * n + m] = P[2 * n + m] + s->power;
+    /* moving constraints: their power with this lambda, not the
+     * evaluation's (the two agree on the solution) */
+    if (s->tphi.tindex >= 0)
+        for (j = 0; j < m; j++) {
+            const double *Cj = s->C + (size_t)j * (size_t)n;
+            double cv = 0.0;
+            for (k = 0; k < n; k++)
+                cv += Cj[k] * Y[n + k];
+            r[2 * n + m] += (lam[j] - s->lam[j]) * cv;
+        }
     if (!eom__finite(r, (size_t)d->NY)) {
         snprintf(it->msg, sizeof it->msg,
                  "at t = %.17g: the DAE residual is not finite", t);
         return ida_cb_result(it, d, EOM_ERR_NONFINITE);
     }
     return ida_cb_result(it, d, EOM_OK);
+}
+
+/* The iteration matrix dG/dY + cj dG/dY' (residual.c). */
+static int ida_jac(sunrealtype t, sunrealtype cj, N_Vector yy, N_Vector yp,
+                   N_Vector rr, SUNMatrix A, void *user, N_Vector t1,
+                   N_Vector t2, N_Vector t3)
+{
+    eom_integ *it = user;
+    ida *d = it->impl;
+    int rc;
+    (void)rr;
+    (void)t1;
+    (void)t2;
+    (void)t3;
+    rc = eom__dae_jacobian(it->s, t, N_VGetArrayPointer(yy),
+                           N_VGetArrayPointer(yp), cj, SM_DATA_D(A),
+                           (int)SM_ROWS_D(A));
+    if (rc != EOM_OK)
+        snprintf(it->msg, sizeof it->msg, "at t = %.17g: %s", t,
+                 it->s->msg);
+    return ida_cb_result(it, d, rc);
 }
 
 /* A failed setup call: a status and a message naming it. */
@@ -199,6 +235,8 @@ static int ida_setup(eom_integ *it, ida *d)
         return eom__integ_nomem(it);
     if ((flag = IDASetLinearSolver(d->mem, d->LS, d->A)) < 0)
         return ida_setup_failed(it, flag, "IDASetLinearSolver");
+    if (!it->o.dq_jacobian && (flag = IDASetJacFn(d->mem, ida_jac)) < 0)
+        return ida_setup_failed(it, flag, "IDASetJacFn");
     return EOM_OK;
 }
 

@@ -98,6 +98,13 @@ void eom__integ_atol(const eom_integ *it, double *atol, int len);
  * the likely cause and the methods that can go on. */
 int eom__integ_rhs(eom_integ *it, double t, const double *y, double *yd);
 
+/* J = d(yd)/dy at (t, y), (2n + 1) square, column-major with leading
+ * dimension ldj: the exact Jacobian from the residual tape, W's row
+ * included (residual.c). Returns like eom__integ_rhs (message in
+ * it->msg); not counted as a right-hand side. */
+int eom__integ_jacobian(eom_integ *it, double t, const double *y,
+                        double *J, int ldj);
+
 /* The assembly-branch monitor (branch.c): made at the start (t, x),
  * checked after each accepted step (t, x = (q, qd)); a switch is
  * counted, not an error. The calls evaluate C at q, and inside a singular

@@ -361,7 +361,8 @@ static int jac_ready(eom_system *s)
         return eom__fail(s, EOM_ERR_MODEL,
                          "the system has no residual tape");
     s->jz = malloc((3 * n + m + 1) * sizeof(double));
-    s->jres = malloc(rows * 2 * n * sizeof(double));
+    /* wide enough for every column of z but the time */
+    s->jres = malloc(rows * (3 * n + m) * sizeof(double));
     s->jB = malloc(n * 2 * n * sizeof(double));
     s->jy = malloc(rows * sizeof(double));
     if (!s->jz || !s->jres || !s->jB || !s->jy ||
@@ -372,6 +373,76 @@ static int jac_ready(eom_system *s)
     for (k = 0; k < s->np; k++)
         if (s->tRes.pmap[k] >= 0)
             tp_ws_set_param(s->tRes.ws, s->tRes.pmap[k], s->pval[k]);
+    return EOM_OK;
+}
+
+int eom__residual_jacobian(eom_system *s, double t, const double *x,
+                           const double *qdd, const double *lam,
+                           double *J)
+{
+    const int n = s->n, m = s->m;
+    int rc, st;
+    if ((rc = jac_ready(s)) != EOM_OK)
+        return rc;
+    if (!isfinite(t) || !eom__finite(x, 2 * (size_t)n) ||
+        !eom__finite(qdd, (size_t)n) || !eom__finite(lam, (size_t)m))
+        return eom__fail(s, EOM_ERR_NONFINITE,
+                         "the state at t = %g is not finite", t);
+    memcpy(s->jz, x, 2 * (size_t)n * sizeof(double));
+    memcpy(s->jz + 2 * n, qdd, (size_t)n * sizeof(double));
+    if (m > 0)
+        memcpy(s->jz + 3 * n, lam, (size_t)m * sizeof(double));
+    s->jz[3 * n + m] = t;
+    st = tp_jacobian(s->tRes.ws, s->jz, 0, 3 * n + m, s->jy, J);
+    return eom__tape_status(s, st, "the Jacobian of the equations");
+}
+
+int eom__dae_jacobian(eom_system *s, double t, const double *Y,
+                      const double *Yp, double cj, double *J, int ldj)
+{
+    const int n = s->n, m = s->m, nc = 3 * n + m;
+    const double a2 = 2.0 * s->alpha, b2 = s->beta * s->beta;
+    const double *Jt, *Er, *K2, *K1, *K0, *Pr;
+    int i, j, k, rc;
+    if ((rc = jac_ready(s)) != EOM_OK)
+        return rc;
+    rc = eom__residual_jacobian(s, t, Y, Yp + n, Y + 2 * n, s->jres);
+    if (rc != EOM_OK)
+        return rc;
+    Jt = s->jres;
+#define AT(i, j) J[(size_t)(j) * (size_t)ldj + (size_t)(i)]
+    for (j = 0; j <= 2 * n + m; j++)
+        for (i = 0; i <= 2 * n + m; i++)
+            AT(i, j) = 0.0;
+    for (i = 0; i < n; i++) { /* q' - v */
+        AT(i, i) = cj;
+        AT(i, n + i) = -1.0;
+    }
+    for (i = 0; i < n; i++) { /* E, with v' entering through M */
+        Er = Jt + (size_t)i * nc;
+        for (j = 0; j < n; j++) {
+            AT(n + i, j) = Er[j];
+            AT(n + i, n + j) = Er[n + j] + cj * Er[2 * n + j];
+        }
+        for (k = 0; k < m; k++)
+            AT(n + i, 2 * n + k) = Er[3 * n + k];
+    }
+    for (k = 0; k < m; k++) { /* phi2 + 2 alpha phi1 + beta^2 phi0 */
+        K2 = Jt + (size_t)(n + k) * nc;
+        K1 = K2 + (size_t)m * nc;
+        K0 = K1 + (size_t)m * nc;
+        for (j = 0; j < 2 * n; j++)
+            AT(2 * n + k, j) = K2[j] + a2 * K1[j] + b2 * K0[j];
+        for (j = 0; j < n; j++)
+            AT(2 * n + k, n + j) += cj * K2[2 * n + j];
+    }
+    Pr = Jt + (size_t)(n + 3 * m) * nc; /* W' + P */
+    for (j = 0; j < 2 * n; j++)
+        AT(2 * n + m, j) = Pr[j];
+    for (k = 0; k < m; k++)
+        AT(2 * n + m, 2 * n + k) = Pr[3 * n + k];
+    AT(2 * n + m, 2 * n + m) = cj;
+#undef AT
     return EOM_OK;
 }
 

@@ -419,6 +419,10 @@ typedef struct eom_opts {
                          12 (adams) or 5 (bdf, ida); 0 (default): 12 or
                          5. bdf at order 2 or less is A-stable, for stiff
                          oscillatory motion. Ignored by rk4 and erk. */
+    int dq_jacobian;  /* bdf, ida, esdirk: 0 (default) for the exact
+                         Jacobian of the equations (eom_state_jacobian);
+                         1 for SUNDIALS' difference quotients, kept as a
+                         reference for tests and benchmarks */
 } eom_opts;
 
 /* The names eom_opts.erk_table accepts: the k-th for k = 0, 1, ..., then
@@ -433,7 +437,7 @@ typedef struct eom_stats {
     long steps;          /* accepted steps */
     long rhs_evals;      /* right-hand-side evaluations, all causes */
     long failures;       /* error-test and convergence failures */
-    long jac_evals;      /* Jacobian evaluations (BDF, IDA) */
+    long jac_evals;      /* Jacobian evaluations (bdf, ida, esdirk) */
     long projections;    /* projections applied */
     double wall_time;    /* seconds spent in eom_integ_advance */
     double max_residual; /* largest |phi| seen after a step */
