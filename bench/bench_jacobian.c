@@ -3,14 +3,16 @@
  * with SUNDIALS' difference quotients, on the same run, with the error
  * each buys against a tight reference.
  *
- *   1. Rigid open chain of N links (default 50), hanging from a zig-zag,
+ *   1. Open chain of N links (default 50, rigid), hanging from a zig-zag,
  *      1 s, rtol 1e-8, atol 1e-11: bdf, ida and esdirk each way; the
  *      reference is adams at rtol 1e-12, atol 1e-14.
  *   2. The cost of one Jacobian by each route at the chain's initial
  *      state: eom_state_jacobian against 2n right-hand sides (what a
  *      difference quotient costs), and their agreement.
  *
- * Usage: bench-jacobian [--links N] [--t-end T]
+ * Usage: bench-jacobian [--links N] [--modes K] [--t-end T]
+ * (--modes: flexible links with K assumed modes each, EI 4e4 as in
+ * bench-hard; default 0, rigid).
  * Prints a markdown table (docs/benchmarks.md, section "Exact Jacobians").
  */
 #include <math.h>
@@ -32,7 +34,7 @@ typedef struct result {
     char msg[256];
 } result;
 
-static eom_system *rigid_chain(int links, char *msg, size_t len)
+static eom_system *chain(int links, int modes, char *msg, size_t len)
 {
     eom_chain_spec sp;
     eom_model *m = NULL;
@@ -45,7 +47,8 @@ static eom_system *rigid_chain(int links, char *msg, size_t len)
         th[j] = -pi / 2 + (j % 2 ? -0.3 : 0.3);
     memset(&sp, 0, sizeof sp);
     sp.links = links;
-    sp.modes_all = 0;
+    sp.modes_all = modes;
+    sp.EI = 4e4; /* bench-hard's flexible chains */
     sp.m = 1.0;
     sp.L = 10.0;
     sp.g = 9.81;
@@ -134,7 +137,7 @@ static void one_dq(void *p)
 
 int main(int argc, char **argv)
 {
-    int links = 50, k, n2;
+    int links = 50, modes = 0, k, n2;
     double t_end = 1.0;
     char msg[256];
     eom_system *s;
@@ -143,18 +146,23 @@ int main(int argc, char **argv)
     for (k = 1; k < argc; k++) {
         if (strcmp(argv[k], "--links") == 0 && k + 1 < argc)
             links = atoi(argv[++k]);
+        else if (strcmp(argv[k], "--modes") == 0 && k + 1 < argc)
+            modes = atoi(argv[++k]);
         else if (strcmp(argv[k], "--t-end") == 0 && k + 1 < argc)
             t_end = atof(argv[++k]);
         else {
-            fprintf(stderr, "usage: bench-jacobian [--links N] [--t-end T]\n");
+            fprintf(stderr, "usage: bench-jacobian [--links N] [--modes K] "
+                            "[--t-end T]\n");
             return 2;
         }
     }
-    if (links < 1 || links > 500 || !(t_end > 0.0)) {
-        fprintf(stderr, "bench-jacobian: links 1 .. 500 and t-end > 0\n");
+    if (links < 1 || links > 500 || modes < 0 || modes > 8 ||
+        !(t_end > 0.0)) {
+        fprintf(stderr, "bench-jacobian: links 1 .. 500, modes 0 .. 8 and "
+                        "t-end > 0\n");
         return 2;
     }
-    s = rigid_chain(links, msg, sizeof msg);
+    s = chain(links, modes, msg, sizeof msg);
     if (!s) {
         fprintf(stderr, "bench-jacobian: %s\n", msg);
         return 1;
@@ -165,8 +173,8 @@ int main(int argc, char **argv)
     if (!ref.x || !r.x)
         return 1;
 
-    printf("Rigid open chain, %d links, %g s, rtol 1e-8, atol 1e-11; "
-           "reference adams 1e-12, 1e-14\n\n", links, t_end);
+    printf("Open chain, %d links, %d modes each, %g s, rtol 1e-8, atol "
+           "1e-11; reference adams 1e-12, 1e-14\n\n", links, modes, t_end);
     run(s, EOM_ADAMS, 0, 1e-12, 1e-14, t_end, &ref);
     if (ref.status != EOM_OK) {
         fprintf(stderr, "bench-jacobian: reference failed: %s\n", ref.msg);
