@@ -144,7 +144,7 @@ struct eom_system {
     eom_named *coords, *params, *probes; /* copies (fn unused) */
     double *pval;                        /* parameter values in use */
     eom_tape tL, tE, tR, tQ, tphi;
-    /* the residual tape (residual.c): z = (q, qd, qdd, lambda, t); its
+    /* the residual tape (residual.c): z = (q, qd, qdd, lambda, t, p); its
      * workspace and the Jacobian's scratch are made on first use */
     eom_tape tRes;
     double *jz, *jres, *jB, *jy;
@@ -211,6 +211,10 @@ int eom__record_residual(eom_system *s);
  * (A is then (2n + 1) square). Leaves s evaluated at (t, x). */
 int eom__state_jacobian(eom_system *s, double t, const double *x,
                         double *A, int lda, int with_power);
+/* residual.c: d(xd)/dp for the system's parameters at (t, x): 2n rows,
+ * np columns, column-major with leading dimension ldb. */
+int eom__param_jacobian(eom_system *s, double t, const double *x,
+                        double *B, int ldb);
 /* residual.c: the residual tape's Jacobian at z = (x, qdd, lambda, t) over
  * (q, qd, qdd, lambda): J row-major, n + 3m + 1 rows (E, phi2, phi1,
  * phi0, P) by 3n + m columns. */

@@ -3,7 +3,9 @@
  *
  * The residual tape is recorded once per system from the system's tapes
  * with libtape's derivative calls (tp_call, tp_call_jvp, tp_call_vjp).
- * Its independents are z = (q, qd, qdd, lambda, t) and its outputs
+ * Its independents are z = (q, qd, qdd, lambda, t, p), p the system's
+ * parameters (so that the equations can be differentiated with respect
+ * to them too), and its outputs
  *
  *   E     = d/dt (dL/dqd) - dL/dq + dR/dqd - Q - C^T lambda      (n)
  *   phi2  = d2phi/dt2 = C qdd + (d2phi/dq2)[qd, qd] + time terms  (m)
@@ -43,17 +45,24 @@ typedef struct res_rec {
 } res_rec;
 
 /* Values for the parameters of tape t in r: the time parameter of the E
- * and R tapes is bound to the time independent, the others are declared
- * in r by name. */
-static int bind_params(tp_rec *r, const tp_tape *t, tp_val time,
-                       tp_val *par)
+ * and R tapes is bound to the time independent; a system parameter to
+ * its independent p[k] when p is given (the residual tape), else declared
+ * in r by name (the intermediate tapes, whose parameters the residual
+ * tape binds in turn). */
+static int bind_params(tp_rec *r, const eom_system *s, const tp_tape *t,
+                       tp_val time, const tp_val *p, tp_val *par)
 {
-    int k, np = tp_tape_n_params(t);
+    int k, j, np = tp_tape_n_params(t);
     for (k = 0; k < np; k++) {
         const char *name = tp_tape_param_name(t, k);
-        par[k] = strcmp(name, EOM_TIME_NAME) == 0
-                     ? time
-                     : tp_param(r, name, tp_tape_param_default(t, k));
+        if (strcmp(name, EOM_TIME_NAME) == 0) {
+            par[k] = time;
+            continue;
+        }
+        par[k] = tp_param(r, name, tp_tape_param_default(t, k));
+        for (j = 0; p && j < s->np; j++)
+            if (strcmp(name, s->params[j].name) == 0)
+                par[k] = p[j];
     }
     return tp_rec_status(r);
 }
@@ -72,7 +81,7 @@ static tp_val *handles(const eom_system *s, size_t *count)
 {
     const size_t n = (size_t)s->n, m = (size_t)s->m;
     const tp_tape *tapes[5];
-    size_t most = 3 * n + m + 2, k;
+    size_t most = 3 * n + m + 2 + (size_t)s->np, k;
     tapes[0] = s->tL.tape;
     tapes[1] = s->tR.tape;
     tapes[2] = s->tQ.tape;
@@ -172,7 +181,7 @@ static int rec_residual(tp_rec *r, void *user)
     const int n = s->n, m = s->m;
     const int L_timed = s->tL.tindex >= 0, phi_timed = s->tphi.tindex >= 0;
     size_t cnt;
-    tp_val *h = handles(s, &cnt), *z, *x, *d, *y, *dy, *w, *par, *E;
+    tp_val *h = handles(s, &cnt), *z, *x, *d, *y, *dy, *w, *par, *E, *p;
     tp_val t, one, P;
     char name[24];
     int i;
@@ -186,9 +195,10 @@ static int rec_residual(tp_rec *r, void *user)
     w = h + 5 * cnt;
     par = h + 6 * cnt;
     E = h + 7 * cnt;
-    for (i = 0; i < 3 * n + m + 1; i++)
+    for (i = 0; i < 3 * n + m + 1 + s->np; i++)
         z[i] = tp_indep(r, i);
     t = z[3 * n + m];
+    p = z + 3 * n + m + 1;
     one = tp_const(r, 1.0);
 
     /* d/dt (dL/dqd) - dL/dq: the gradient tape along (qd, qdd, 1) */
@@ -198,13 +208,14 @@ static int rec_residual(tp_rec *r, void *user)
     }
     x[2 * n] = t;
     d[2 * n] = one;
-    tp_call_jvp(r, a->G, x, NULL, d, NULL, y, dy);
+    bind_params(r, s, a->G, t, p, par);
+    tp_call_jvp(r, a->G, x, par, d, NULL, y, dy);
     for (i = 0; i < n; i++)
         E[i] = tp_sub(r, dy[n + i], y[i]);
     P = L_timed ? tp_neg(r, y[2 * n]) : tp_const(r, 0.0);
 
     if (s->has_R) { /* + dR/dqd; the power qd . (-dR/dqd) */
-        bind_params(r, s->tR.tape, t, par);
+        bind_params(r, s, s->tR.tape, t, p, par);
         select_output(r, s->tR.tape, 0, w);
         tp_call_vjp(r, s->tR.tape, x, par, w, NULL, dy, NULL);
         for (i = 0; i < n; i++) {
@@ -213,7 +224,7 @@ static int rec_residual(tp_rec *r, void *user)
         }
     }
     if (s->has_Q) { /* - Q; the power qd . Q */
-        bind_params(r, s->tQ.tape, t, par);
+        bind_params(r, s, s->tQ.tape, t, p, par);
         tp_call(r, s->tQ.tape, x, par, y);
         for (i = 0; i < n; i++) {
             E[i] = tp_sub(r, E[i], y[i]);
@@ -226,7 +237,8 @@ static int rec_residual(tp_rec *r, void *user)
         for (i = 0; i < n; i++)
             x[i] = z[i];
         x[n] = t;
-        tp_call_vjp(r, s->tphi.tape, x, NULL, z + 3 * n, NULL, dy, NULL);
+        bind_params(r, s, s->tphi.tape, t, p, par);
+        tp_call_vjp(r, s->tphi.tape, x, par, z + 3 * n, NULL, dy, NULL);
         for (i = 0; i < n; i++)
             E[i] = tp_sub(r, E[i], dy[i]);
     }
@@ -242,7 +254,8 @@ static int rec_residual(tp_rec *r, void *user)
         }
         x[2 * n] = t;
         d[2 * n] = one;
-        tp_call_jvp(r, a->Phi1, x, NULL, d, NULL, y, dy);
+        bind_params(r, s, a->Phi1, t, p, par);
+        tp_call_jvp(r, a->Phi1, x, par, d, NULL, y, dy);
         for (i = 0; i < m; i++) {
             snprintf(name, sizeof name, "phi2_%d", i);
             tp_output(r, name, dy[m + i]);
@@ -327,7 +340,8 @@ int eom__record_residual(eom_system *s)
         ends[2] = 3 * n;
         ends[3] = 3 * n + m;
         ends[4] = 3 * n + m + 1;
-        rc = record_tape(s, 3 * n + m + 1, ends, rec_residual, &a,
+        ends[5] = 3 * n + m + 1 + s->np;
+        rc = record_tape(s, 3 * n + m + 1 + s->np, ends, rec_residual, &a,
                          "residual of the equations of motion",
                          &s->tRes.tape);
     }
@@ -339,12 +353,13 @@ int eom__record_residual(eom_system *s)
     s->tRes.tindex = -1;
     s->tRes.tparam = -1;
     s->tRes.tset = NAN;
+    /* the system's parameters are independents of this tape: none of
+     * its own */
     s->tRes.pmap = malloc((size_t)(s->np ? s->np : 1) * sizeof(int));
     if (!s->tRes.pmap)
         return eom__fail(s, EOM_ERR_NOMEM, "out of memory");
     for (k = 0; k < s->np; k++)
-        s->tRes.pmap[k] = tp_tape_param_index(s->tRes.tape,
-                                              s->params[k].name);
+        s->tRes.pmap[k] = -1;
     return EOM_OK;
 }
 
@@ -354,25 +369,22 @@ static int jac_ready(eom_system *s)
 {
     const size_t n = (size_t)s->n, m = (size_t)s->m;
     const size_t rows = n + 3 * m + 1;
-    int k;
     if (s->tRes.ws)
         return EOM_OK;
     if (!s->tRes.tape)
         return eom__fail(s, EOM_ERR_MODEL,
                          "the system has no residual tape");
-    s->jz = malloc((3 * n + m + 1) * sizeof(double));
+    s->jz = malloc((3 * n + m + 1 + (size_t)s->np) * sizeof(double));
     /* wide enough for every column of z but the time */
-    s->jres = malloc(rows * (3 * n + m) * sizeof(double));
-    s->jB = malloc(n * 2 * n * sizeof(double));
+    s->jres = malloc(rows * (3 * n + m + (size_t)s->np + 1) *
+                     sizeof(double));
+    s->jB = malloc(n * (2 * n + (size_t)s->np + 1) * sizeof(double));
     s->jy = malloc(rows * sizeof(double));
     if (!s->jz || !s->jres || !s->jB || !s->jy ||
         tp_ws_new(&s->tRes.ws, s->tRes.tape, s->tRes.dirs, NULL) != TP_OK)
         return eom__fail(s, EOM_ERR_NOMEM,
                          "out of memory for the Jacobian of the state "
                          "derivative");
-    for (k = 0; k < s->np; k++)
-        if (s->tRes.pmap[k] >= 0)
-            tp_ws_set_param(s->tRes.ws, s->tRes.pmap[k], s->pval[k]);
     return EOM_OK;
 }
 
@@ -393,6 +405,9 @@ int eom__residual_jacobian(eom_system *s, double t, const double *x,
     if (m > 0)
         memcpy(s->jz + 3 * n, lam, (size_t)m * sizeof(double));
     s->jz[3 * n + m] = t;
+    if (s->np > 0)
+        memcpy(s->jz + 3 * n + m + 1, s->pval,
+               (size_t)s->np * sizeof(double));
     st = tp_jacobian(s->tRes.ws, s->jz, 0, 3 * n + m, s->jy, J);
     return eom__tape_status(s, st, "the Jacobian of the equations");
 }
@@ -446,8 +461,12 @@ int eom__dae_jacobian(eom_system *s, double t, const double *Y,
     return EOM_OK;
 }
 
-int eom__state_jacobian(eom_system *s, double t, const double *x,
-                        double *A, int lda, int with_power)
+/* Columns first .. first + count - 1 of z (the state x = (q, qd) when
+ * first is 0, the parameters when it is 3n + m + 1): d(xd)/d(column)
+ * into the columns of A (leading dimension lda), and with with_power
+ * -dP/d(column) in row 2n. */
+static int xd_columns(eom_system *s, double t, const double *x, int first,
+                      int count, double *A, int lda, int with_power)
 {
     const int n = s->n, m = s->m, n2 = 2 * n;
     const double *qd = x + n;
@@ -463,27 +482,32 @@ int eom__state_jacobian(eom_system *s, double t, const double *x,
     if (m > 0)
         memcpy(s->jz + 3 * n, s->lam, (size_t)m * sizeof(double));
     s->jz[3 * n + m] = t;
+    if (s->np > 0)
+        memcpy(s->jz + 3 * n + m + 1, s->pval,
+               (size_t)s->np * sizeof(double));
+    if (count == 0)
+        return EOM_OK;
     Jr = s->jres;
-    st = tp_jacobian(s->tRes.ws, s->jz, 0, n2, s->jy, Jr);
+    st = tp_jacobian(s->tRes.ws, s->jz, first, count, s->jy, Jr);
     if ((rc = eom__tape_status(s, st, "the Jacobian of the equations")))
         return rc;
-    /* B = M^-1 dE/dx, column-major n x 2n */
+    /* B = M^-1 dE/d(column), column-major n x count */
     B = s->jB;
-    for (j = 0; j < n2; j++)
+    for (j = 0; j < count; j++)
         for (i = 0; i < n; i++)
-            B[(size_t)j * n + i] = Jr[(size_t)i * n2 + j];
-    if ((rc = eom__mass_solve(s, B, n2)) != EOM_OK)
+            B[(size_t)j * n + i] = Jr[(size_t)i * count + j];
+    if ((rc = eom__mass_solve(s, B, count)) != EOM_OK)
         return rc;
-    /* A's columns: dq/dx = [0 I], d qdd/dx = X; dW/dx = -dP/dx */
-    for (j = 0; j < n2; j++) {
+    /* dq/dx = [0 I] (0 for a parameter), d qdd/d(column) = X; dW = -dP */
+    for (j = 0; j < count; j++) {
         double *col = A + (size_t)j * (size_t)lda, *Bj = B + (size_t)j * n;
         double *lam = s->wm;
         for (i = 0; i < n; i++)
-            col[i] = i + n == j ? 1.0 : 0.0;
+            col[i] = first == 0 && i + n == j ? 1.0 : 0.0;
         for (i = 0; i < n; i++)
             col[n + i] = -Bj[i];
         if (m > 0) {
-            /* Lam_j = S^-1 (C B_j - dK/dx_j) */
+            /* Lam_j = S^-1 (C B_j - dK/d(column)_j) */
             for (k = 0; k < m; k++) {
                 const double *Ck = s->C + (size_t)k * n;
                 double cb = 0.0;
@@ -491,9 +515,9 @@ int eom__state_jacobian(eom_system *s, double t, const double *x,
                              r0 = r1 + (size_t)m;
                 for (i = 0; i < n; i++)
                     cb += Ck[i] * Bj[i];
-                lam[k] = cb - (Jr[r2 * n2 + j] +
-                               2.0 * s->alpha * Jr[r1 * n2 + j] +
-                               s->beta * s->beta * Jr[r0 * n2 + j]);
+                lam[k] = cb - (Jr[r2 * count + j] +
+                               2.0 * s->alpha * Jr[r1 * count + j] +
+                               s->beta * s->beta * Jr[r0 * count + j]);
             }
             if ((rc = eom__S_solve(s, lam)) != EOM_OK)
                 return rc;
@@ -502,7 +526,7 @@ int eom__state_jacobian(eom_system *s, double t, const double *x,
                     col[n + i] += s->Y[(size_t)k * n + i] * lam[k];
         }
         if (with_power) {
-            double dP = Jr[(size_t)(n + 3 * m) * n2 + j];
+            double dP = Jr[(size_t)(n + 3 * m) * count + j];
             /* moving constraints: P holds lambda . (C qd) at fixed
              * lambda; add its change through lambda, (C qd) . Lam_j */
             if (s->tphi.tindex >= 0) {
@@ -517,10 +541,24 @@ int eom__state_jacobian(eom_system *s, double t, const double *x,
             col[n2] = -dP;
         }
     }
-    if (with_power)
+    return EOM_OK;
+}
+
+int eom__state_jacobian(eom_system *s, double t, const double *x,
+                        double *A, int lda, int with_power)
+{
+    const int n2 = 2 * s->n;
+    int i, rc = xd_columns(s, t, x, 0, n2, A, lda, with_power);
+    if (rc == EOM_OK && with_power)
         for (i = 0; i <= n2; i++)
             A[(size_t)n2 * (size_t)lda + (size_t)i] = 0.0;
-    return EOM_OK;
+    return rc;
+}
+
+int eom__param_jacobian(eom_system *s, double t, const double *x,
+                        double *B, int ldb)
+{
+    return xd_columns(s, t, x, 3 * s->n + s->m + 1, s->np, B, ldb, 0);
 }
 
 int eom_state_jacobian(eom_system *s, double t, const double *x, double *A)
@@ -543,6 +581,31 @@ int eom_state_jacobian(eom_system *s, double t, const double *x, double *A)
             for (j = 0; j < n2; j++)
                 A[(size_t)i * n2 + j] = Ac[(size_t)j * n2 + i];
     free(Ac);
+    if (rc == EOM_OK)
+        s->msg[0] = '\0';
+    return rc;
+}
+
+int eom_param_jacobian(eom_system *s, double t, const double *x, double *B)
+{
+    const int n2 = s ? 2 * s->n : 0, np = s ? s->np : 0;
+    double *Bc;
+    int i, j, rc;
+    if (!s)
+        return EOM_ERR_NULL;
+    s->msg[0] = '\0';
+    if (!x || (!B && np > 0))
+        return eom__fail(s, EOM_ERR_NULL,
+                         "eom_param_jacobian: x or B is NULL");
+    Bc = malloc((size_t)n2 * (size_t)(np ? np : 1) * sizeof(double));
+    if (!Bc)
+        return eom__fail(s, EOM_ERR_NOMEM, "out of memory");
+    rc = eom__param_jacobian(s, t, x, Bc, n2);
+    if (rc == EOM_OK)
+        for (i = 0; i < n2; i++)
+            for (j = 0; j < np; j++)
+                B[(size_t)i * np + j] = Bc[(size_t)j * n2 + i];
+    free(Bc);
     if (rc == EOM_OK)
         s->msg[0] = '\0';
     return rc;

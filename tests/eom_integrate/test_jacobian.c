@@ -9,6 +9,7 @@
  *      coupling), structural damping; at the initial state and at two
  *      states off it, at t = 0.37; with Baumgarte terms on the closed
  *      chain; after a parameter changes; on a clone (equal bit for bit).
+ *      eom_param_jacobian against differences in every parameter.
  *   2. White-box: the row of the dissipated energy W that the implicit
  *      integrators add (eom__state_jacobian with_power) against central
  *      differences of -power.
@@ -147,6 +148,39 @@ static double check_at(eom_system *s, double t, const double *x,
     free(A);
     free(Afd);
     return err;
+}
+
+/* eom_param_jacobian against differences of eom_rhs in each parameter. */
+static void check_params(eom_system *s, double t, const double *x,
+                         const char *ctx)
+{
+    static const double step[4] = {1.0, -1.0, 2.0, -2.0};
+    static const double coef[4] = {8.0, -8.0, -1.0, 1.0};
+    const int n2 = 2 * eom_system_ncoords(s), np = eom_system_nparams(s);
+    double *B = malloc((size_t)n2 * (np ? np : 1) * sizeof *B);
+    double *fd = calloc((size_t)n2 * (np ? np : 1), sizeof *fd);
+    double *f = malloc((size_t)n2 * sizeof *f), err = 0.0, scale;
+    int i, k, j;
+    CHECK_INT(eom_param_jacobian(s, t, x, B), EOM_OK);
+    for (k = 0; k < np; k++) {
+        const double p0 = eom_get_param(s, k), h = 1e-4 * (1.0 + fabs(p0));
+        for (j = 0; j < 4; j++) {
+            CHECK_INT(eom_set_param(s, k, p0 + step[j] * h), EOM_OK);
+            CHECK_INT(eom_rhs(s, t, x, f), EOM_OK);
+            for (i = 0; i < n2; i++)
+                fd[i * np + k] += coef[j] * f[i] / (12.0 * h);
+        }
+        CHECK_INT(eom_set_param(s, k, p0), EOM_OK);
+    }
+    scale = max_abs(fd, n2 * np);
+    for (i = 0; i < n2 * np; i++)
+        err = fmax(err, fabs(B[i] - fd[i]));
+    if (!(err <= 1e-7 * scale))
+        CHECK_FAIL_("%s: d(xd)/dp against differences: %.3g (scale %.3g)",
+                    ctx, err, scale);
+    free(B);
+    free(fd);
+    free(f);
 }
 
 /* The W row (white-box) against differences of -power. */
@@ -292,6 +326,7 @@ static void one_model(const char *label, const char *what, int is_file)
                k, err);
         check_power_row(s, TJ, x, ctx);
         check_dae(s, TJ, x, ctx);
+        check_params(s, TJ, x, ctx);
     }
     /* a parameter changed: the Jacobian follows it */
     if (eom_system_nparams(s) > 0) {

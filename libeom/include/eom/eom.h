@@ -278,6 +278,12 @@ EOM_API int eom_rhs(eom_system *s, double t, const double *x, double *xd);
  * implicit integrators use it for their Newton iterations. */
 EOM_API int eom_state_jacobian(eom_system *s, double t, const double *x,
                                double *A);
+/* The Jacobian of the state derivative with respect to the system's
+ * parameters, B = d(xd)/dp (2n x np, row-major, parameters in index
+ * order) at (t, x), from the same tape: a force or a stiffness that is a
+ * parameter is an input of the linearized model. */
+EOM_API int eom_param_jacobian(eom_system *s, double t, const double *x,
+                               double *B);
 
 /* Quantities at a state; each evaluates what it needs. */
 EOM_API int eom_mass_matrix(eom_system *s, const double *x, double *M);
