@@ -317,6 +317,10 @@ void dgesvd_(const char *jobu, const char *jobvt, const int *m,
              const int *n, double *a, const int *lda, double *s, double *u,
              const int *ldu, double *vt, const int *ldvt, double *work,
              const int *lwork, int *info, size_t jobu_len, size_t jobvt_len);
+void dgeev_(const char *jobvl, const char *jobvr, const int *n, double *a,
+            const int *lda, double *wr, double *wi, double *vl,
+            const int *ldvl, double *vr, const int *ldvr, double *work,
+            const int *lwork, int *info, size_t jobvl_len, size_t jobvr_len);
 void dgesv_(const int *n, const int *nrhs, double *a, const int *lda,
             int *ipiv, double *b, const int *ldb, int *info);
 

@@ -9,7 +9,9 @@
  *      coupling), structural damping; at the initial state and at two
  *      states off it, at t = 0.37; with Baumgarte terms on the closed
  *      chain; after a parameter changes; on a clone (equal bit for bit).
- *      eom_param_jacobian against differences in every parameter.
+ *      eom_param_jacobian against differences in every parameter;
+ *      eom_linearize_state's tangent basis T keeping phi and dphi/dt
+ *      to first order at moving states.
  *   2. White-box: the row of the dissipated energy W that the implicit
  *      integrators add (eom__state_jacobian with_power) against central
  *      differences of -power.
@@ -19,7 +21,10 @@
  *   3. At rest, against the linearization's matrices (second derivatives
  *      from separate sweeps): N^T M (dqdd/dq) N = -N^T K N and
  *      N^T M (dqdd/dqd) N = -N^T D N to 1e-11, on the double pendulum,
- *      the spring pendulum with damping and the four-bar at rest.
+ *      a damped model and the four-bar at rest; and the eigenvalues of
+ *      eom_linearize_state's reduced A equal to those of the damped modal
+ *      problem (Mr s^2 + Dr s + Kr) v = 0 to 1e-9, its T orthonormal and
+ *      tangent to the constraints.
  *   4. In the integrators: bdf, ida and esdirk with the exact Jacobian
  *      and with difference quotients end 1 s of the double pendulum, the
  *      closed chain and the cart-pole within 1e-6 of each other, the
@@ -183,6 +188,61 @@ static void check_params(eom_system *s, double t, const double *x,
     free(f);
 }
 
+/* eom_linearize_state at a moving state: T orthonormal, its columns
+ * keep phi and dphi/dt unchanged to first order (central differences of
+ * eom_residuals), Ar = T^T A T, and A and B those of the two calls. */
+static void check_state_linear(eom_system *s, double t, const double *x,
+                               const char *ctx)
+{
+    const int n2 = 2 * eom_system_ncoords(s), m = eom_system_nconstraints(s);
+    const int np = eom_system_nparams(s);
+    eom_state_linear sl;
+    double xp[256], xm[256], pp[64], pm[64], dp[64], dm[64], err = 0.0;
+    double *A = malloc((size_t)n2 * n2 * sizeof *A);
+    int i, j, k;
+    memset(&sl, 0, sizeof sl);
+    CHECK_INT(eom_linearize_state(s, t, x, &sl), EOM_OK);
+    CHECK_INT(eom_state_jacobian(s, t, x, A), EOM_OK);
+    if (sl.n2 != n2 || !sl.A || m > 64) {
+        free(A);
+        eom_state_linear_free(&sl);
+        return;
+    }
+    CHECK(memcmp(A, sl.A, (size_t)n2 * n2 * sizeof *A) == 0);
+    CHECK_INT(sl.np, np);
+    CHECK(m > 0 ? sl.nz <= n2 - 2 * m : sl.nz == n2);
+    eom_set_time(s, t);
+    for (j = 0; j < sl.nz; j++) {
+        const double h = 1e-6;
+        for (i = 0; i < n2; i++) {
+            xp[i] = x[i] + h * sl.T[i * sl.nz + j];
+            xm[i] = x[i] - h * sl.T[i * sl.nz + j];
+        }
+        CHECK_INT(eom_residuals(s, xp, pp, dp), EOM_OK);
+        CHECK_INT(eom_residuals(s, xm, pm, dm), EOM_OK);
+        for (k = 0; k < m; k++)
+            err = fmax(err, fmax(fabs(pp[k] - pm[k]), fabs(dp[k] - dm[k])) /
+                                (2.0 * h));
+    }
+    if (!(err <= 1e-6))
+        CHECK_FAIL_("%s: T leaves the constraints: %.3g", ctx, err);
+    /* Ar = T^T A T */
+    err = 0.0;
+    for (i = 0; i < sl.nz; i++)
+        for (j = 0; j < sl.nz; j++) {
+            double sum = 0.0;
+            int a, b;
+            for (a = 0; a < n2; a++)
+                for (b = 0; b < n2; b++)
+                    sum += sl.T[a * sl.nz + i] * sl.A[a * n2 + b] *
+                           sl.T[b * sl.nz + j];
+            err = fmax(err, fabs(sum - sl.Ar[i * sl.nz + j]));
+        }
+    CHECK(err <= 1e-12 * (max_abs(sl.A, n2 * n2) + 1.0));
+    free(A);
+    eom_state_linear_free(&sl);
+}
+
 /* The W row (white-box) against differences of -power. */
 static void check_power_row(eom_system *s, double t, const double *x,
                             const char *ctx)
@@ -327,6 +387,7 @@ static void one_model(const char *label, const char *what, int is_file)
         check_power_row(s, TJ, x, ctx);
         check_dae(s, TJ, x, ctx);
         check_params(s, TJ, x, ctx);
+        check_state_linear(s, TJ, x, ctx);
     }
     /* a parameter changed: the Jacobian follows it */
     if (eom_system_nparams(s) > 0) {
@@ -403,6 +464,116 @@ static void project(int n, int nr, const double *N, const double *M,
     free(MZ);
 }
 
+/* The eigenvalues of eom_linearize_state's reduced A at rest against the
+ * damped modal problem (Mr s^2 + Dr s + Kr) v = 0 of eom_linearize,
+ * written as the companion matrix [0 I; -Mr^-1 Kr, -Mr^-1 Dr]; and T
+ * orthonormal with C T_q = 0. */
+static void damped_eigenvalues(eom_system *s, const double *x,
+                               const eom_linear *lin, const char *label)
+{
+    const int nr = lin->nr, n = lin->n, N = 2 * nr;
+    eom_state_linear sl;
+    double *Mi, *P, *comp, *re, *im, *work, C[64 * 64], q;
+    int *ipiv, info = 0, lwork = 64 * (N + 1), one = 1, i, j, k;
+    memset(&sl, 0, sizeof sl);
+    CHECK_INT(eom_linearize_state(s, 0.0, x, &sl), EOM_OK);
+    CHECK_INT(sl.nz, N);
+    if (sl.nz != N) {
+        eom_state_linear_free(&sl);
+        return;
+    }
+    Mi = malloc((size_t)nr * nr * sizeof *Mi);
+    P = malloc((size_t)nr * 2 * nr * sizeof *P);
+    comp = calloc((size_t)N * N, sizeof *comp);
+    re = malloc((size_t)N * sizeof *re);
+    im = malloc((size_t)N * sizeof *im);
+    work = malloc((size_t)lwork * sizeof *work);
+    ipiv = malloc((size_t)nr * sizeof *ipiv);
+    /* P = Mr^-1 [Kr Dr], column-major (Mr, Kr, Dr are symmetric) */
+    for (i = 0; i < nr * nr; i++)
+        Mi[i] = lin->Mr[i];
+    for (i = 0; i < nr; i++)
+        for (j = 0; j < nr; j++) {
+            P[j * nr + i] = lin->Kr[i * nr + j];
+            P[(nr + j) * nr + i] = lin->Dr[i * nr + j];
+        }
+    k = 2 * nr;
+    dgesv_(&nr, &k, Mi, &nr, ipiv, P, &nr, &info);
+    CHECK_INT(info, 0);
+    for (i = 0; i < nr; i++) { /* column-major companion */
+        comp[(nr + i) * N + i] = 1.0;
+        for (j = 0; j < nr; j++) {
+            comp[j * N + nr + i] = -P[j * nr + i];
+            comp[(nr + j) * N + nr + i] = -P[(nr + j) * nr + i];
+        }
+    }
+    dgeev_("N", "N", &N, comp, &N, re, im, &q, &one, &q, &one, work, &lwork,
+           &info, 1, 1);
+    CHECK_INT(info, 0);
+    {
+        /* as sets: each eigenvalue of the companion matched to the
+         * nearest one of Ar not yet taken (equal real parts make any
+         * order depend on rounding) */
+        double scale = 0.0, err = 0.0;
+        int taken[128] = {0};
+        for (i = 0; i < N; i++)
+            scale = fmax(scale, hypot(re[i], im[i]));
+        for (i = 0; i < N && N <= 128; i++) {
+            double best = INFINITY;
+            int bj = -1;
+            for (j = 0; j < N; j++) {
+                double d = hypot(re[i] - sl.eig_re[j], im[i] - sl.eig_im[j]);
+                if (!taken[j] && d < best) {
+                    best = d;
+                    bj = j;
+                }
+            }
+            if (bj >= 0)
+                taken[bj] = 1;
+            err = fmax(err, best);
+        }
+        if (!(err <= 1e-9 * scale))
+            CHECK_FAIL_("%s: eigenvalues of Ar against the damped modal "
+                        "problem: %.3g (scale %.3g)", label, err, scale);
+        printf("%-22s at rest: %d eigenvalues of Ar = damped modes "
+               "(%.1e), e.g. %.6g %+.6gi\n", label, N, err / scale,
+               sl.eig_re[N - 1], sl.eig_im[N - 1]);
+    }
+    /* T orthonormal, its q-part in the null space of C */
+    {
+        double err = 0.0;
+        for (i = 0; i < N; i++)
+            for (j = 0; j < N; j++) {
+                double d = 0.0;
+                for (k = 0; k < 2 * n; k++)
+                    d += sl.T[k * N + i] * sl.T[k * N + j];
+                err = fmax(err, fabs(d - (i == j)));
+            }
+        CHECK(err < 1e-12);
+        if (eom_system_nconstraints(s) > 0 && n <= 64) {
+            const int m = eom_system_nconstraints(s);
+            double ct = 0.0;
+            CHECK_INT(eom_constraint_jacobian(s, x, C, NULL), EOM_OK);
+            for (i = 0; i < m; i++)
+                for (j = 0; j < N; j++) {
+                    double d = 0.0;
+                    for (k = 0; k < n; k++)
+                        d += C[i * n + k] * sl.T[k * N + j];
+                    ct = fmax(ct, fabs(d));
+                }
+            CHECK(ct < 1e-12);
+        }
+    }
+    eom_state_linear_free(&sl);
+    free(Mi);
+    free(P);
+    free(comp);
+    free(re);
+    free(im);
+    free(work);
+    free(ipiv);
+}
+
 static void at_rest(const char *label, const char *what, int is_file,
                     const char *damp_param)
 {
@@ -442,6 +613,7 @@ static void at_rest(const char *label, const char *what, int is_file,
                  fmax(max_abs(lin.Dr, nr * nr), 1e-12), 1e-11);
     if (damp_param)
         CHECK(max_abs(lin.Dr, nr * nr) > 0.01);
+    damped_eigenvalues(s, x, &lin, label);
     printf("%-22s at rest: K and D of the linearization agree\n", label);
     free(A);
     free(Zq);

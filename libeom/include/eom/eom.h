@@ -367,6 +367,31 @@ typedef struct eom_linear {
 EOM_API int eom_linearize(eom_system *s, const double *q, eom_linear *lin);
 EOM_API void eom_linear_free(eom_linear *lin);
 
+/* The state-space linearization about any state (t, x), moving or at
+ * rest:  d(dx)/dt = A dx + B dp,  A = d(xd)/dx (2n x 2n) and B = d(xd)/dp
+ * (2n x np, every parameter in index order), exact, with the forces Q,
+ * the gyroscopic, dissipation and constraint forces and the Baumgarte
+ * terms (eom_state_jacobian, eom_param_jacobian). With constraints the
+ * perturbations that keep phi = 0 and dphi/dt = 0 are dx = T z, T
+ * (2n x nz) an orthonormal basis (from one SVD; redundant constraints are
+ * allowed); Ar = T^T A T (nz x nz) and Br = T^T B (nz x np) are the
+ * reduced matrices, and eig_re, eig_im the eigenvalues of Ar sorted by
+ * real, then imaginary part. Without constraints T is the identity and
+ * Ar = A. All matrices row-major. On failure *lin is zeroed. Free with
+ * eom_state_linear_free. docs/linearization.md has the details. */
+typedef struct eom_state_linear {
+    int n2, np, nz;   /* states 2n, parameters, reduced states */
+    double t;
+    double *x;        /* 2n: the state linearized about */
+    double *A, *B;    /* 2n x 2n, 2n x np */
+    double *T;        /* 2n x nz */
+    double *Ar, *Br;  /* nz x nz, nz x np */
+    double *eig_re, *eig_im; /* nz */
+} eom_state_linear;
+EOM_API int eom_linearize_state(eom_system *s, double t, const double *x,
+                                eom_state_linear *lin);
+EOM_API void eom_state_linear_free(eom_state_linear *lin);
+
 /* Static equilibrium: from q (n, updated in place), Newton iteration
  * (with a line search) on dL/dq(q, 0) + C^T lambda = 0, phi(q) = 0 with the
  * tape's second derivatives, to max |residual| <= tol. Generalized forces
