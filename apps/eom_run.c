@@ -26,6 +26,7 @@
 #include "demos/file_demo.h"
 #include "describe.h"
 #include "eom/eom.h"
+#include "linearize_report.h"
 #include "modes_report.h"
 #include "overrides.h"
 
@@ -47,6 +48,7 @@ typedef struct cli {
     int quiet, list, describe, help;
     int plots;             /* --plots: the demo's after_run hook */
     int modes;             /* --modes: equilibrium and frequencies */
+    int linearize;         /* --linearize: A, B about the start state */
     unsigned extra;        /* --columns: optional CSV columns */
 } cli;
 
@@ -67,6 +69,7 @@ enum {
     OPT_BAUMGARTE,
     OPT_PLOTS,
     OPT_MODES,
+    OPT_LINEARIZE,
     OPT_COLUMNS
 };
 
@@ -90,6 +93,7 @@ static const struct option long_options[] = {
     {"out", required_argument, NULL, 'o'},
     {"plots", no_argument, NULL, OPT_PLOTS},
     {"modes", no_argument, NULL, OPT_MODES},
+    {"linearize", no_argument, NULL, OPT_LINEARIZE},
     {"columns", required_argument, NULL, OPT_COLUMNS},
     {"quiet", no_argument, NULL, 'q'},
     {NULL, 0, NULL, 0},
@@ -100,6 +104,7 @@ static void usage_line(FILE *f)
     fprintf(f, "usage: eom-run --list\n"
                "       eom-run DEMO --describe [--set NAME=VALUE]...\n"
                "       eom-run DEMO --modes [--set NAME=VALUE]...\n"
+               "       eom-run DEMO --linearize [--set NAME=VALUE]...\n"
                "       eom-run DEMO [OPTION]...\n"
                "DEMO is a demo or shipped model by name, or a model file "
                "PATH.eom.\n");
@@ -176,6 +181,12 @@ static void help(void)
         "equilibrium from the\n"
         "                        initial state and print it with the "
         "natural frequencies\n"
+        "      --linearize       do not integrate: print the state-space "
+        "matrices A = d(xd)/dx\n"
+        "                        and B = d(xd)/dp about the start state, "
+        "reduced to the\n"
+        "                        constraints, and their eigenvalues "
+        "(docs/cli.md)\n"
         "  -q, --quiet           no summary, no progress line and no note "
         "about the plots\n"
         "                        on standard error\n"
@@ -349,6 +360,7 @@ static int parse(int argc, char **argv, cli *c)
         case OPT_NO_PROJECT: c->opts.project = 0; break;
         case OPT_PLOTS: c->plots = 1; break;
         case OPT_MODES: c->modes = 1; break;
+        case OPT_LINEARIZE: c->linearize = 1; break;
         case OPT_COLUMNS: rc = columns_arg(optarg, &c->extra); break;
         case OPT_BAUMGARTE:
             rc = baumgarte_arg(optarg, &c->alpha, &c->beta);
@@ -407,11 +419,13 @@ static int run(cli *c, const demo *d)
     int status = EXIT_RUN, n, rc;
     eom_run_opts plan;
 
-    if (c->modes && c->describe)
-        return cli_usage_error("--modes and --describe: give one of them");
-    if (c->modes && (c->plots || c->out))
-        return cli_usage_error("--modes prints to standard output and runs "
-                           "nothing: --out and --plots belong to a run");
+    if (c->modes + c->describe + c->linearize > 1)
+        return cli_usage_error("--modes, --linearize and --describe: give "
+                               "one of them");
+    if ((c->modes || c->linearize) && (c->plots || c->out))
+        return cli_usage_error("--%s prints to standard output and runs "
+                               "nothing: --out and --plots belong to a run",
+                               c->modes ? "modes" : "linearize");
     if (c->plots && !d->after_run)
         return cli_usage_error("--plots: the demo %s has no plots", d->name);
     if (c->t_end / c->sample > MAX_ROWS)
@@ -489,6 +503,17 @@ static int run(cli *c, const demo *d)
     }
     if (eom_run_prepare_start(s, x0, &c->opts, "eom-run", d->name) != 0)
         goto done;
+    if (c->linearize) {
+        status = linearize_report(stdout, s, 0.0, x0, d->name) == 0
+                     ? EXIT_SUCCESS
+                     : EXIT_RUN;
+        if (status == EXIT_SUCCESS &&
+            (fflush(stdout) != 0 || ferror(stdout))) {
+            fprintf(stderr, "eom-run: cannot write to standard output\n");
+            status = EXIT_RUN;
+        }
+        goto done;
+    }
 
     /* --plots needs a CSV file to read back: NAME.csv here by default */
     if (c->plots && !c->out) {

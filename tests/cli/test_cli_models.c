@@ -141,6 +141,121 @@ static void case_modes(void)
     result_free(&r);
 }
 
+/* The values of row `row` of block `blk` of --linearize's output (up to
+ * max); the number of values, or -1 when the block or row is missing. */
+static int block_row(const char *out, const char *blk, const char *row,
+                     double *v, int max)
+{
+    char key[64];
+    const char *p, *end;
+    int k = 0;
+    snprintf(key, sizeof key, "\n%s,", blk);
+    p = out ? strstr(out, key) : NULL;
+    if (!p)
+        return -1;
+    p = strchr(p + 1, '\n'); /* past the header */
+    snprintf(key, sizeof key, "\n%s,", row);
+    while (p && *p) {
+        if (strncmp(p, key, strlen(key)) == 0)
+            break;
+        p = strchr(p + 1, '\n');
+        /* a line without a row of this block: a new header follows one
+         * whose first field is a block name; stop at the eigenvalues */
+        if (p && strncmp(p, "\neigenvalues", 12) == 0 &&
+            strcmp(blk, "eigenvalues") != 0)
+            return -1;
+    }
+    if (!p || !*p)
+        return -1;
+    p += strlen(key);
+    end = strchr(p, '\n');
+    while (p && p < end && k < max) {
+        char *e;
+        v[k++] = strtod(p, &e);
+        p = strchr(e, ',');
+        if (p)
+            p++;
+    }
+    return k;
+}
+
+/* --linearize on the spring pendulum against its equations in closed form
+ *   rdd  = r thd^2 - k/m (r - r0) + g cos th
+ *   thdd = -(g sin th + 2 rd thd) / r
+ * at a moving state (gyroscopic terms included), B against the same,
+ * the eigenvalues at rest (+-i sqrt(k/m), +-i sqrt(g/r)); the four-bar's
+ * reduced blocks; --linearize with --out refused. */
+static void case_linearize(void)
+{
+    const double m = 1.0, k = 75.0, r0 = 1.0, g = 9.81;
+    const double r = 1.2, th = 0.4, rd = 0.3, thd = 0.7;
+    const double req = r0 + m * g / k;
+    char rest_r[64];
+    const char *moving[] = {"spring-pendulum", "--linearize", "--set",
+                            "r=1.2", "--set", "theta=0.4", "--set",
+                            "r_dot=0.3", "--set", "theta_dot=0.7", NULL};
+    const char *rest[] = {"spring-pendulum", "--linearize", "--set",
+                          rest_r, "--set", "theta=0", NULL};
+    const char *bar[] = {"four-bar", "--linearize", NULL};
+    const char *bad[] = {"four-bar", "--linearize", "-o", "x.csv", NULL};
+    double v[16];
+    result res;
+    int i;
+
+    run(&res, moving);
+    CHECK_INT(res.status, 0);
+    CHECK_INT(block_row(res.out, "A", "r_dot", v, 16), 4);
+    CHECK_NEAR(v[0], thd * thd - k / m, 1e-12);
+    CHECK_NEAR(v[1], -g * sin(th), 1e-12);
+    CHECK_NEAR(v[2], 0.0, 1e-12);
+    CHECK_NEAR(v[3], 2.0 * r * thd, 1e-12);
+    CHECK_INT(block_row(res.out, "A", "theta_dot", v, 16), 4);
+    CHECK_NEAR(v[0], (g * sin(th) + 2.0 * rd * thd) / (r * r), 1e-12);
+    CHECK_NEAR(v[1], -g * cos(th) / r, 1e-12);
+    CHECK_NEAR(v[2], -2.0 * thd / r, 1e-12);
+    CHECK_NEAR(v[3], -2.0 * rd / r, 1e-12);
+    CHECK_INT(block_row(res.out, "A", "theta", v, 16), 4);
+    CHECK(v[0] == 0.0 && v[1] == 0.0 && v[2] == 0.0 && v[3] == 1.0);
+    /* B: columns m, k, r0, g */
+    CHECK_INT(block_row(res.out, "B", "r_dot", v, 16), 4);
+    CHECK_NEAR(v[0], k * (r - r0) / (m * m), 1e-12);
+    CHECK_NEAR(v[1], -(r - r0) / m, 1e-12);
+    CHECK_NEAR(v[2], k / m, 1e-12);
+    CHECK_NEAR(v[3], cos(th), 1e-12);
+    CHECK_INT(block_row(res.out, "B", "theta_dot", v, 16), 4);
+    CHECK_NEAR(v[3], -sin(th) / r, 1e-12);
+    CHECK_HAS(res.out, "\nB,m,k,r0,g\n");
+    result_free(&res);
+
+    snprintf(rest_r, sizeof rest_r, "r=%.17g", req);
+    run(&res, rest);
+    CHECK_INT(res.status, 0);
+    {
+        const double want[4] = {-sqrt(k / m), -sqrt(g / req), sqrt(g / req),
+                                sqrt(k / m)};
+        char row[8];
+        for (i = 0; i < 4; i++) {
+            snprintf(row, sizeof row, "%d", i + 1);
+            CHECK_INT(block_row(res.out, "eigenvalues", row, v, 16), 2);
+            CHECK_NEAR(v[0], 0.0, 1e-9);
+            CHECK_NEAR(v[1], want[i], 1e-9);
+        }
+    }
+    result_free(&res);
+
+    run(&res, bar);
+    CHECK_INT(res.status, 0);
+    CHECK_HAS(res.out, "\nT,z1,z2\n");
+    CHECK_HAS(res.out, "\nAr,z1,z2\n");
+    CHECK_INT(block_row(res.out, "T", "th1_dot", v, 16), 2);
+    result_free(&res);
+
+    run(&res, bad);
+    CHECK_INT(res.status, 2);
+    CHECK_HAS(res.err, "--linearize prints to standard output");
+    result_free(&res);
+}
+
 /* --plots alone: NAME.csv and the plots in the current directory. */
 static void case_plots(void)
 {
@@ -357,6 +472,7 @@ static const struct {
     void (*fn)(void);
 } cases[] = {
     {"model_columns", case_columns},
+    {"model_linearize", case_linearize},
     {"model_health", case_health},
     {"model_tolerance", case_tolerance},
     {"model_list", case_list},   {"model_describe", case_describe},
