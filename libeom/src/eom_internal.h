@@ -215,6 +215,15 @@ int eom__state_jacobian(eom_system *s, double t, const double *x,
  * np columns, column-major with leading dimension ldb. */
 int eom__param_jacobian(eom_system *s, double t, const double *x,
                         double *B, int ldb);
+/* residual.c: the right-hand sides of ns forward sensitivities at
+ * (t, x): out[k] = A V_k + (B e_par[k] when par[k] >= 0) for the
+ * (2n + 1)-vectors V_k (q, qd, W; W enters nothing), W's row included;
+ * one forward sweep of the residual tape with ns directions. work holds
+ * eom__sens_work(s, ns) doubles. */
+int eom__sens_rhs(eom_system *s, double t, const double *x, int ns,
+                  const int *par, const double *const *V,
+                  double *const *out, double *work);
+size_t eom__sens_work(const eom_system *s, int ns);
 /* residual.c: the residual tape's Jacobian at z = (x, qdd, lambda, t) over
  * (q, qd, qdd, lambda): J row-major, n + 3m + 1 rows (E, phi2, phi1,
  * phi0, P) by 3n + m columns. */

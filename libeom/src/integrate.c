@@ -45,6 +45,8 @@ void eom_opts_default(eom_opts *o)
     o->tol_per_step = 0;
     o->max_order = 0;
     o->dq_jacobian = 0;
+    o->n_sens = 0;
+    o->sens = NULL;
 }
 
 int eom__integ_top_order(eom_method m)
@@ -332,6 +334,38 @@ static int check_opts(const eom_opts *o, int n, char *msg, size_t len)
     return bad ? EOM_ERR_ARG : EOM_OK;
 }
 
+/* The sensitivities asked for: methods, models and inputs. */
+static int check_sens(const eom_opts *o, const eom_system *s, char *msg,
+                      size_t len)
+{
+    int k;
+    if (o->n_sens == 0)
+        return EOM_OK;
+    if (o->n_sens < 0 || !o->sens) {
+        snprintf(msg, len, "n_sens %d with %s sens", o->n_sens,
+                 o->sens ? "a" : "a NULL");
+        return o->sens ? EOM_ERR_ARG : EOM_ERR_NULL;
+    }
+    if (o->method != EOM_ADAMS && o->method != EOM_BDF) {
+        snprintf(msg, len, "sensitivities are integrated by adams and bdf "
+                 "(CVODES), not by %s", eom_method_name(o->method));
+        return EOM_ERR_ARG;
+    }
+    if (s->m > 0) {
+        snprintf(msg, len, "sensitivities of a model with constraints are "
+                 "not available (docs/integrators.md, \"Sensitivities\")");
+        return EOM_ERR_ARG;
+    }
+    for (k = 0; k < o->n_sens; k++)
+        if (o->sens[k] < 0 || o->sens[k] >= s->np + 2 * s->n) {
+            snprintf(msg, len, "sens[%d] = %d: an input is a parameter 0 .. "
+                     "%d or an initial value %d .. %d", k, o->sens[k],
+                     s->np - 1, s->np, s->np + 2 * s->n - 1);
+            return EOM_ERR_ARG;
+        }
+    return EOM_OK;
+}
+
 int eom__integ_create(eom_integ **out, eom_system *s, const eom_opts *o,
                       double t0, const double *y0, int fresh)
 {
@@ -339,6 +373,8 @@ int eom__integ_create(eom_integ **out, eom_system *s, const eom_opts *o,
     int rc;
     *out = NULL;
     if ((rc = check_opts(o, s->n, s->msg, sizeof s->msg)) != EOM_OK)
+        return rc;
+    if ((rc = check_sens(o, s, s->msg, sizeof s->msg)) != EOM_OK)
         return rc;
     it = calloc(1, sizeof *it);
     if (!it)
@@ -352,11 +388,30 @@ int eom__integ_create(eom_integ **out, eom_system *s, const eom_opts *o,
     /* nothing borrowed outlives this call */
     it->o.atol_vec = NULL;
     it->o.erk_table = NULL;
+    it->o.sens = NULL;
+    if (o->n_sens > 0) {
+        int k;
+        it->sens = malloc((size_t)o->n_sens * sizeof *it->sens);
+        it->S = calloc(2 * (size_t)s->n * (size_t)o->n_sens, sizeof *it->S);
+        if (!it->sens || !it->S) {
+            free(it->sens);
+            free(it->S);
+            free(it);
+            return EOM_ERR_NOMEM;
+        }
+        memcpy(it->sens, o->sens, (size_t)o->n_sens * sizeof *it->sens);
+        /* at t0: d x / d x0_i is the unit vector i, d x / dp is 0 */
+        for (k = 0; k < o->n_sens; k++)
+            if (o->sens[k] >= s->np)
+                it->S[(size_t)(o->sens[k] - s->np) * o->n_sens + k] = 1.0;
+    }
     if (o->erk_table)
         strcpy(it->erk_table, o->erk_table);
     if (o->atol_vec) {
         it->atolv = malloc(2 * (size_t)s->n * sizeof(double));
         if (!it->atolv) {
+            free(it->sens);
+            free(it->S);
             free(it);
             return EOM_ERR_NOMEM;
         }
@@ -369,6 +424,8 @@ int eom__integ_create(eom_integ **out, eom_system *s, const eom_opts *o,
     it->y = malloc((size_t)it->N * sizeof(double));
     if (!it->y) {
         free(it->atolv);
+        free(it->sens);
+        free(it->S);
         free(it);
         return EOM_ERR_NOMEM;
     }
@@ -439,11 +496,23 @@ void eom_integ_free(eom_integ **it)
         (*it)->ops->destroy(*it);
     free((*it)->y);
     free((*it)->atolv);
+    free((*it)->sens);
+    free((*it)->S);
     if (!(*it)->branch_borrowed)
         eom__branch_free(&(*it)->branch);
     eom_integ_free(&(*it)->sub);
     free(*it);
     *it = NULL;
+}
+
+int eom_integ_sensitivities(const eom_integ *it, double *S)
+{
+    if (!it || !S)
+        return EOM_ERR_NULL;
+    if (it->o.n_sens == 0 || !it->S)
+        return EOM_ERR_ARG;
+    memcpy(S, it->S, 2 * (size_t)it->n * (size_t)it->o.n_sens * sizeof *S);
+    return EOM_OK;
 }
 
 const char *eom_integ_errmsg(const eom_integ *it)

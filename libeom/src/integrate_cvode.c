@@ -26,6 +26,14 @@
  *          weights being > 1. Smaller corrections stay out of the solver.
  * CVodeReInit zeroes CVODE's counters; they are banked first.
  *
+ * Sensitivities (eom_opts.n_sens, models without constraints): CVODES
+ * integrates them beside the state, staggered, with the state's
+ * tolerances scaled by each parameter's size (CVodeSensEEtolerances,
+ * pbar = |p|, 1 for an initial value) and in the error test; their
+ * right-hand sides are exact (cv_sens_rhs, residual.c). Adams solves
+ * them by fixed point as it does the state; BDF by Newton with the same
+ * linear solver.
+ *
  * Callbacks return 0, +1 for EOM_ERR_NONFINITE (CVODE retries with a
  * smaller step) and -1 otherwise, and keep the status and message of the
  * most recent one: when the solver fails right after a failed callback,
@@ -37,9 +45,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <cvode/cvode.h>
-#include <cvode/cvode_ls.h>
-#include <cvode/cvode_proj.h>
+#include <cvodes/cvodes.h>
+#include <cvodes/cvodes_ls.h>
+#include <cvodes/cvodes_proj.h>
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
 #include <sunlinsol/sunlinsol_dense.h>
@@ -60,6 +68,13 @@ typedef struct cvode {
     double *r;                 /* [m] scratch */
     int restart;               /* project at output times, restart on drift */
     long banked_steps, banked_fails; /* counters before the last restart */
+    int ns;                    /* sensitivities */
+    N_Vector *yS;              /* [ns] their values */
+    SUNNonlinearSolver NLSs;   /* Adams: their fixed point */
+    int *par;                  /* [ns] parameter index, or -1 */
+    double *swork;             /* eom__sens_work doubles */
+    const double **Vp;         /* [ns] pointers into yS */
+    double **Op;               /* [ns] pointers into their rates */
     eom_sun_report rep;        /* why it stopped */
 } cvode;
 
@@ -79,6 +94,29 @@ static int cv_rhs(sunrealtype t, N_Vector y, N_Vector yd, void *user)
     int rc = eom__integ_rhs(it, t, N_VGetArrayPointer(y),
                             N_VGetArrayPointer(yd));
     return cv_cb_result(it, it->impl, rc);
+}
+
+/* The sensitivities' right-hand sides: A yS_k + B e_p for each. */
+static int cv_sens_rhs(int ns, sunrealtype t, N_Vector y, N_Vector yd,
+                       N_Vector *yS, N_Vector *ySd, void *user,
+                       N_Vector t1, N_Vector t2)
+{
+    eom_integ *it = user;
+    cvode *c = it->impl;
+    int k, rc;
+    (void)yd;
+    (void)t1;
+    (void)t2;
+    for (k = 0; k < ns; k++) {
+        c->Vp[k] = N_VGetArrayPointer(yS[k]);
+        c->Op[k] = N_VGetArrayPointer(ySd[k]);
+    }
+    rc = eom__sens_rhs(it->s, t, N_VGetArrayPointer(y), ns, c->par, c->Vp,
+                       c->Op, c->swork);
+    if (rc != EOM_OK)
+        snprintf(it->msg, sizeof it->msg, "at t = %.17g: %s", t,
+                 it->s->msg);
+    return cv_cb_result(it, c, rc);
 }
 
 /* BDF's Newton matrix: the exact d(yd)/dy, W's row included. */
@@ -194,6 +232,10 @@ static void cv_destroy(eom_integ *it)
     CVodeFree(&c->mem);
     if (c->NLS)
         SUNNonlinSolFree(c->NLS);
+    if (c->NLSs)
+        SUNNonlinSolFree(c->NLSs);
+    if (c->yS)
+        N_VDestroyVectorArray(c->yS, c->ns > 0 ? c->ns : it->o.n_sens);
     if (c->LS)
         SUNLinSolFree(c->LS);
     if (c->A)
@@ -206,6 +248,10 @@ static void cv_destroy(eom_integ *it)
         SUNContext_Free(&c->ctx);
     free(c->w);
     free(c->r);
+    free(c->par);
+    free(c->swork);
+    free(c->Vp);
+    free(c->Op);
     free(c);
     it->impl = NULL;
 }
@@ -239,6 +285,55 @@ static int cv_init_method(eom_integ *it, cvode *c)
     if (m > 0 && it->o.project &&
         (flag = CVodeSetProjFn(c->mem, cv_project)) < 0)
         return cv_setup_failed(it, flag, "CVodeSetProjFn");
+    return EOM_OK;
+}
+
+/* Sensitivities: their vectors (unit vectors for initial values), the
+ * scales of their tolerances, and for Adams their fixed point. */
+static int cv_sens_init(eom_integ *it, cvode *c)
+{
+    const int ns = it->o.n_sens, np = it->s->np;
+    double *pbar;
+    int k, flag;
+    c->ns = ns;
+    c->yS = N_VCloneVectorArray(ns, c->y);
+    c->par = malloc((size_t)ns * sizeof *c->par);
+    c->swork = malloc(eom__sens_work(it->s, ns) * sizeof(double));
+    c->Vp = malloc((size_t)ns * sizeof *c->Vp);
+    c->Op = malloc((size_t)ns * sizeof *c->Op);
+    pbar = malloc((size_t)ns * sizeof *pbar);
+    if (!c->yS || !c->par || !c->swork || !c->Vp || !c->Op || !pbar) {
+        free(pbar);
+        return eom__integ_nomem(it);
+    }
+    for (k = 0; k < ns; k++) {
+        const int w = it->sens[k];
+        double *v = N_VGetArrayPointer(c->yS[k]);
+        memset(v, 0, (size_t)it->N * sizeof(double));
+        c->par[k] = w < np ? w : -1;
+        if (w >= np)
+            v[w - np] = 1.0;
+        pbar[k] = w < np && it->s->pval[w] != 0.0 ? fabs(it->s->pval[w])
+                                                  : 1.0;
+    }
+    flag = CVodeSensInit(c->mem, ns, CV_STAGGERED, cv_sens_rhs, c->yS);
+    if (flag >= 0)
+        flag = CVodeSetSensParams(c->mem, NULL, pbar, NULL);
+    free(pbar);
+    if (flag < 0)
+        return cv_setup_failed(it, flag, "CVodeSensInit");
+    if ((flag = CVodeSensEEtolerances(c->mem)) < 0)
+        return cv_setup_failed(it, flag, "CVodeSensEEtolerances");
+    if ((flag = CVodeSetSensErrCon(c->mem, SUNTRUE)) < 0)
+        return cv_setup_failed(it, flag, "CVodeSetSensErrCon");
+    if (it->o.method == EOM_ADAMS) {
+        c->NLSs = SUNNonlinSol_FixedPointSens(ns, c->y, 0, c->ctx);
+        if (!c->NLSs)
+            return eom__integ_nomem(it);
+        if ((flag = CVodeSetNonlinearSolverSensStg(c->mem, c->NLSs)) < 0)
+            return cv_setup_failed(it, flag,
+                                   "CVodeSetNonlinearSolverSensStg");
+    }
     return EOM_OK;
 }
 
@@ -289,7 +384,9 @@ static int cv_init(eom_integ *it)
         return cv_setup_failed(it, flag, "CVodeSetInitStep");
     if ((flag = CVodeSetMaxOrd(c->mem, eom__integ_max_order(it))) < 0)
         return cv_setup_failed(it, flag, "CVodeSetMaxOrd");
-    return cv_init_method(it, c);
+    if ((flag = cv_init_method(it, c)) != EOM_OK)
+        return flag;
+    return it->o.n_sens > 0 ? cv_sens_init(it, c) : EOM_OK;
 }
 
 /* Counters that CVodeReInit is about to zero. */
@@ -335,6 +432,19 @@ static int cv_output(eom_integ *it, cvode *c, double tout)
         }
     }
     memcpy(it->y, c->w, (size_t)N * sizeof(double));
+    if (c->ns > 0) {
+        sunrealtype ts;
+        int k;
+        if ((flag = CVodeGetSens(c->mem, &ts, c->yS)) < 0) {
+            rc = cv_setup_failed(it, flag, "CVodeGetSens");
+            return eom__integ_fail(it, rc, "%s: %s", cv_name(it), it->msg);
+        }
+        for (k = 0; k < c->ns; k++) {
+            const double *v = N_VGetArrayPointer(c->yS[k]);
+            for (i = 0; i < 2 * it->n; i++)
+                it->S[(size_t)i * c->ns + k] = v[i];
+        }
+    }
     return EOM_OK;
 }
 

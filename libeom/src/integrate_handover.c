@@ -37,6 +37,7 @@ static int start(eom_integ *it)
     eom_opts o = it->o;
     int rc;
     o.method = EOM_BDF;
+    o.n_sens = 0; /* never with constraints, which hand over */
     o.max_order = 0;
     o.dt = 0.0;
     o.atol_vec = it->atolv;

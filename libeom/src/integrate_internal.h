@@ -67,6 +67,9 @@ struct eom_integ {
     eom_stats handed;    /* counts of the bdf runs and of the method's
                             instances before each restart */
     double handed_reach; /* the largest tol_reachable of those bdf runs */
+    int *sens;           /* [o.n_sens] the inputs of the sensitivities */
+    double *S;           /* [2n x o.n_sens] row-major: the sensitivities at
+                            t (integrate_cvode.c) */
 };
 
 /* The highest order of a variable-order method (adams 12, bdf and ida

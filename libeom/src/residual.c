@@ -461,53 +461,32 @@ int eom__dae_jacobian(eom_system *s, double t, const double *Y,
     return EOM_OK;
 }
 
-/* Columns first .. first + count - 1 of z (the state x = (q, qd) when
- * first is 0, the parameters when it is 3n + m + 1): d(xd)/d(column)
- * into the columns of A (leading dimension lda), and with with_power
- * -dP/d(column) in row 2n. */
-static int xd_columns(eom_system *s, double t, const double *x, int first,
-                      int count, double *A, int lda, int with_power)
+/* From the residual tape's derivatives along count directions (Jr,
+ * row-major (n + 3m + 1) x count, at fixed qdd and lambda), the changes
+ * of the accelerations X = M^-1 (C^T Lam - dE) with
+ * Lam = S^-1 (C M^-1 dE - dK), into rows n .. 2n-1 of column j of out
+ * (out + j * ldo), and with with_power -dP into row 2n. Bw: n x count
+ * scratch. Uses the factors of the evaluation at x. */
+static int finish_columns(eom_system *s, const double *x, const double *Jr,
+                          int count, double *Bw, double *out, int ldo,
+                          int with_power)
 {
-    const int n = s->n, m = s->m, n2 = 2 * n;
+    const int n = s->n, m = s->m;
     const double *qd = x + n;
-    double *Jr, *B;
-    int i, j, k, rc, st;
-
-    if ((rc = jac_ready(s)) != EOM_OK)
-        return rc;
-    if ((rc = eom__evaluate(s, t, x)) != EOM_OK)
-        return rc;
-    memcpy(s->jz, x, (size_t)n2 * sizeof(double));
-    memcpy(s->jz + n2, s->qdd, (size_t)n * sizeof(double));
-    if (m > 0)
-        memcpy(s->jz + 3 * n, s->lam, (size_t)m * sizeof(double));
-    s->jz[3 * n + m] = t;
-    if (s->np > 0)
-        memcpy(s->jz + 3 * n + m + 1, s->pval,
-               (size_t)s->np * sizeof(double));
-    if (count == 0)
-        return EOM_OK;
-    Jr = s->jres;
-    st = tp_jacobian(s->tRes.ws, s->jz, first, count, s->jy, Jr);
-    if ((rc = eom__tape_status(s, st, "the Jacobian of the equations")))
-        return rc;
-    /* B = M^-1 dE/d(column), column-major n x count */
-    B = s->jB;
+    int i, j, k, rc;
     for (j = 0; j < count; j++)
         for (i = 0; i < n; i++)
-            B[(size_t)j * n + i] = Jr[(size_t)i * count + j];
-    if ((rc = eom__mass_solve(s, B, count)) != EOM_OK)
+            Bw[(size_t)j * n + i] = Jr[(size_t)i * count + j];
+    if ((rc = eom__mass_solve(s, Bw, count)) != EOM_OK)
         return rc;
-    /* dq/dx = [0 I] (0 for a parameter), d qdd/d(column) = X; dW = -dP */
     for (j = 0; j < count; j++) {
-        double *col = A + (size_t)j * (size_t)lda, *Bj = B + (size_t)j * n;
+        double *col = out + (size_t)j * (size_t)ldo;
+        const double *Bj = Bw + (size_t)j * n;
         double *lam = s->wm;
-        for (i = 0; i < n; i++)
-            col[i] = first == 0 && i + n == j ? 1.0 : 0.0;
         for (i = 0; i < n; i++)
             col[n + i] = -Bj[i];
         if (m > 0) {
-            /* Lam_j = S^-1 (C B_j - dK/d(column)_j) */
+            /* Lam_j = S^-1 (C B_j - dK_j) */
             for (k = 0; k < m; k++) {
                 const double *Ck = s->C + (size_t)k * n;
                 double cb = 0.0;
@@ -538,8 +517,91 @@ static int xd_columns(eom_system *s, double t, const double *x, int first,
                     dP += cqd * lam[k];
                 }
             }
-            col[n2] = -dP;
+            col[2 * n] = -dP;
         }
+    }
+    return EOM_OK;
+}
+
+size_t eom__sens_work(const eom_system *s, int ns)
+{
+    const size_t n = (size_t)s->n, m = (size_t)s->m, k = (size_t)ns;
+    return ((3 * n + m + 1 + (size_t)s->np) + (n + 3 * m + 1) + n +
+            (2 * n + 1)) * k;
+}
+
+/* Evaluate at (t, x) and fill z = (x, qdd, lambda, t, p). */
+static int evaluate_z(eom_system *s, double t, const double *x)
+{
+    const int n = s->n, m = s->m;
+    int rc;
+    if ((rc = jac_ready(s)) != EOM_OK)
+        return rc;
+    if ((rc = eom__evaluate(s, t, x)) != EOM_OK)
+        return rc;
+    memcpy(s->jz, x, 2 * (size_t)n * sizeof(double));
+    memcpy(s->jz + 2 * n, s->qdd, (size_t)n * sizeof(double));
+    if (m > 0)
+        memcpy(s->jz + 3 * n, s->lam, (size_t)m * sizeof(double));
+    s->jz[3 * n + m] = t;
+    if (s->np > 0)
+        memcpy(s->jz + 3 * n + m + 1, s->pval,
+               (size_t)s->np * sizeof(double));
+    return EOM_OK;
+}
+
+/* Columns first .. first + count - 1 of z (the state x = (q, qd) when
+ * first is 0, the parameters when it is 3n + m + 1): d(xd)/d(column)
+ * into the columns of A (leading dimension lda), and with with_power
+ * -dP/d(column) in row 2n. */
+static int xd_columns(eom_system *s, double t, const double *x, int first,
+                      int count, double *A, int lda, int with_power)
+{
+    const int n = s->n;
+    int i, j, rc, st;
+    if ((rc = evaluate_z(s, t, x)) != EOM_OK)
+        return rc;
+    if (count == 0)
+        return EOM_OK;
+    st = tp_jacobian(s->tRes.ws, s->jz, first, count, s->jy, s->jres);
+    if ((rc = eom__tape_status(s, st, "the Jacobian of the equations")))
+        return rc;
+    /* dq/dx = [0 I], 0 for a parameter */
+    for (j = 0; j < count; j++)
+        for (i = 0; i < n; i++)
+            A[(size_t)j * (size_t)lda + (size_t)i] =
+                first == 0 && i + n == j ? 1.0 : 0.0;
+    return finish_columns(s, x, s->jres, count, s->jB, A, lda, with_power);
+}
+
+int eom__sens_rhs(eom_system *s, double t, const double *x, int ns,
+                  const int *par, const double *const *V,
+                  double *const *out, double *work)
+{
+    const int n = s->n, m = s->m, nz = 3 * n + m + 1 + s->np;
+    const int N = 2 * n + 1;
+    double *seed = work, *JS = seed + (size_t)nz * ns;
+    double *Bw = JS + (size_t)(n + 3 * m + 1) * ns, *cols = Bw + (size_t)n * ns;
+    int i, k, rc, st;
+    if ((rc = evaluate_z(s, t, x)) != EOM_OK)
+        return rc;
+    /* direction k: (q, qd) by V_k, parameter par[k] by 1 */
+    memset(seed, 0, (size_t)nz * (size_t)ns * sizeof *seed);
+    for (k = 0; k < ns; k++) {
+        for (i = 0; i < 2 * n; i++)
+            seed[(size_t)i * ns + k] = V[k][i];
+        if (par[k] >= 0)
+            seed[(size_t)(3 * n + m + 1 + par[k]) * ns + k] = 1.0;
+    }
+    st = tp_jvp(s->tRes.ws, s->jz, ns, seed, s->jy, JS);
+    if ((rc = eom__tape_status(s, st, "the sensitivities' right-hand side")))
+        return rc;
+    if ((rc = finish_columns(s, x, JS, ns, Bw, cols, N, 1)) != EOM_OK)
+        return rc;
+    for (k = 0; k < ns; k++) {
+        memcpy(out[k], V[k] + n, (size_t)n * sizeof(double));
+        memcpy(out[k] + n, cols + (size_t)k * N + n,
+               (size_t)(n + 1) * sizeof(double));
     }
     return EOM_OK;
 }

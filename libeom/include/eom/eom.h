@@ -454,11 +454,20 @@ typedef struct eom_opts {
                          Jacobian of the equations (eom_state_jacobian);
                          1 for SUNDIALS' difference quotients, kept as a
                          reference for tests and benchmarks */
+    int n_sens;       /* adams and bdf: forward sensitivities of the
+                         trajectory with respect to n_sens inputs (0,
+                         default: none); read them with
+                         eom_integ_sensitivities */
+    const int *sens;  /* [n_sens] the inputs: a parameter index k
+                         (0 .. np-1), or np + i for the initial value of
+                         state i (coordinate i for i < n, the rate of
+                         coordinate i - n otherwise); copied */
 } eom_opts;
 
 /* The names eom_opts.erk_table accepts: the k-th for k = 0, 1, ..., then
  * NULL. */
 EOM_API const char *eom_erk_table_name(int k);
+
 
 /* Defaults: RK4 with dt = 1e-3, rtol = 1e-8, atol = 1e-10, no atol_vec,
  * the default ERK table. */
@@ -531,6 +540,16 @@ EOM_API const char *eom_integ_errmsg(const eom_integ *it);
 EOM_API int eom_integ_advance(eom_integ *it, double tout, double *x,
                               double *W);
 EOM_API int eom_integ_stats(const eom_integ *it, eom_stats *st);
+
+/* The sensitivities at the time of the last eom_integ_advance (at t0
+ * before the first): S[i * n_sens + k] = d x_i / d(input k) for the 2n
+ * states x = (q, qd) and the inputs of eom_opts.sens, row-major 2n x
+ * n_sens. CVODES integrates them beside the state (staggered, error
+ * controlled with the state's tolerances scaled by each parameter's
+ * size) with right-hand sides A S + B from the residual tape, exact
+ * (docs/integrators.md, "Sensitivities"). EOM_ERR_ARG when the
+ * integrator computes none. */
+EOM_API int eom_integ_sensitivities(const eom_integ *it, double *S);
 
 #ifdef __cplusplus
 }
