@@ -218,10 +218,12 @@ int eom__param_jacobian(eom_system *s, double t, const double *x,
 /* residual.c: the right-hand sides of ns forward sensitivities at
  * (t, x): out[k] = A V_k + (B e_par[k] when par[k] >= 0) for the
  * (2n + 1)-vectors V_k (q, qd, W; W enters nothing), W's row included;
- * one forward sweep of the residual tape with ns directions. work holds
+ * one forward sweep of the residual tape with ns directions. With
+ * evaluated, s already holds the evaluation at (t, x) (eom__evaluate
+ * was its last evaluation), which is then not repeated. work holds
  * eom__sens_work(s, ns) doubles. */
-int eom__sens_rhs(eom_system *s, double t, const double *x, int ns,
-                  const int *par, const double *const *V,
+int eom__sens_rhs(eom_system *s, double t, const double *x, int evaluated,
+                  int ns, const int *par, const double *const *V,
                   double *const *out, double *work);
 size_t eom__sens_work(const eom_system *s, int ns);
 /* residual.c: the residual tape's Jacobian at z = (x, qdd, lambda, t) over

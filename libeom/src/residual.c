@@ -530,15 +530,10 @@ size_t eom__sens_work(const eom_system *s, int ns)
             (2 * n + 1)) * k;
 }
 
-/* Evaluate at (t, x) and fill z = (x, qdd, lambda, t, p). */
-static int evaluate_z(eom_system *s, double t, const double *x)
+/* z = (x, qdd, lambda, t, p) from the evaluation s holds. */
+static void fill_z(eom_system *s, double t, const double *x)
 {
     const int n = s->n, m = s->m;
-    int rc;
-    if ((rc = jac_ready(s)) != EOM_OK)
-        return rc;
-    if ((rc = eom__evaluate(s, t, x)) != EOM_OK)
-        return rc;
     memcpy(s->jz, x, 2 * (size_t)n * sizeof(double));
     memcpy(s->jz + 2 * n, s->qdd, (size_t)n * sizeof(double));
     if (m > 0)
@@ -547,6 +542,17 @@ static int evaluate_z(eom_system *s, double t, const double *x)
     if (s->np > 0)
         memcpy(s->jz + 3 * n + m + 1, s->pval,
                (size_t)s->np * sizeof(double));
+}
+
+/* Evaluate at (t, x) and fill z. */
+static int evaluate_z(eom_system *s, double t, const double *x)
+{
+    int rc;
+    if ((rc = jac_ready(s)) != EOM_OK)
+        return rc;
+    if ((rc = eom__evaluate(s, t, x)) != EOM_OK)
+        return rc;
+    fill_z(s, t, x);
     return EOM_OK;
 }
 
@@ -574,8 +580,8 @@ static int xd_columns(eom_system *s, double t, const double *x, int first,
     return finish_columns(s, x, s->jres, count, s->jB, A, lda, with_power);
 }
 
-int eom__sens_rhs(eom_system *s, double t, const double *x, int ns,
-                  const int *par, const double *const *V,
+int eom__sens_rhs(eom_system *s, double t, const double *x, int evaluated,
+                  int ns, const int *par, const double *const *V,
                   double *const *out, double *work)
 {
     const int n = s->n, m = s->m, nz = 3 * n + m + 1 + s->np;
@@ -583,8 +589,13 @@ int eom__sens_rhs(eom_system *s, double t, const double *x, int ns,
     double *seed = work, *JS = seed + (size_t)nz * ns;
     double *Bw = JS + (size_t)(n + 3 * m + 1) * ns, *cols = Bw + (size_t)n * ns;
     int i, k, rc, st;
-    if ((rc = evaluate_z(s, t, x)) != EOM_OK)
+    if (evaluated) { /* s holds the evaluation at (t, x): z from it */
+        if ((rc = jac_ready(s)) != EOM_OK)
+            return rc;
+        fill_z(s, t, x);
+    } else if ((rc = evaluate_z(s, t, x)) != EOM_OK) {
         return rc;
+    }
     /* direction k: (q, qd) by V_k, parameter par[k] by 1 */
     memset(seed, 0, (size_t)nz * (size_t)ns * sizeof *seed);
     for (k = 0; k < ns; k++) {

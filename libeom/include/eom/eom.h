@@ -544,11 +544,11 @@ EOM_API int eom_integ_stats(const eom_integ *it, eom_stats *st);
 /* The sensitivities at the time of the last eom_integ_advance (at t0
  * before the first): S[i * n_sens + k] = d x_i / d(input k) for the 2n
  * states x = (q, qd) and the inputs of eom_opts.sens, row-major 2n x
- * n_sens. CVODES integrates them beside the state (staggered, error
- * controlled with the state's tolerances scaled by each parameter's
- * size) with right-hand sides A S + B from the residual tape, exact
- * (docs/integrators.md, "Sensitivities"). EOM_ERR_ARG when the
- * integrator computes none. */
+ * n_sens. CVODES integrates them beside the state (staggered, on the
+ * state's steps, their corrector with the state's tolerances scaled by
+ * each parameter's size) with right-hand sides A S + B from the residual
+ * tape, exact (docs/integrators.md, "Sensitivities"). EOM_ERR_ARG when
+ * the integrator computes none. */
 EOM_API int eom_integ_sensitivities(const eom_integ *it, double *S);
 
 #ifdef __cplusplus
