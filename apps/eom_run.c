@@ -49,6 +49,8 @@ typedef struct cli {
     int plots;             /* --plots: the demo's after_run hook */
     int modes;             /* --modes: equilibrium and frequencies */
     int linearize;         /* --linearize: A, B about the start state */
+    const char *sens_arg;  /* --sensitivity NAME[,NAME...] */
+    int *sens;             /* their inputs (eom_opts.sens) */
     unsigned extra;        /* --columns: optional CSV columns */
 } cli;
 
@@ -70,6 +72,7 @@ enum {
     OPT_PLOTS,
     OPT_MODES,
     OPT_LINEARIZE,
+    OPT_SENSITIVITY,
     OPT_COLUMNS
 };
 
@@ -94,6 +97,7 @@ static const struct option long_options[] = {
     {"plots", no_argument, NULL, OPT_PLOTS},
     {"modes", no_argument, NULL, OPT_MODES},
     {"linearize", no_argument, NULL, OPT_LINEARIZE},
+    {"sensitivity", required_argument, NULL, OPT_SENSITIVITY},
     {"columns", required_argument, NULL, OPT_COLUMNS},
     {"quiet", no_argument, NULL, 'q'},
     {NULL, 0, NULL, 0},
@@ -187,6 +191,13 @@ static void help(void)
         "reduced to the\n"
         "                        constraints, and their eigenvalues "
         "(docs/cli.md)\n"
+        "      --sensitivity NAME[,NAME...]\n"
+        "                        with adams or bdf: also the columns "
+        "d(x)/d(NAME) of the\n"
+        "                        sensitivities of every state x to each "
+        "parameter, or\n"
+        "                        initial coordinate or rate (NAME_dot), "
+        "named\n"
         "  -q, --quiet           no summary, no progress line and no note "
         "about the plots\n"
         "                        on standard error\n"
@@ -201,6 +212,54 @@ static void help(void)
         "\nExample: eom-run spring-pendulum --set k=100 --set theta_dot=0.3 "
         "--t-end 5 --out sp.csv\n"
         "See docs/cli.md, docs/csv.md, docs/demos.md and docs/models.md.\n");
+}
+
+/* --sensitivity NAME[,NAME...]: each a parameter, or a coordinate or
+ * rate (NAME_dot) whose initial value it is; into c->sens and the
+ * integrator's options. Returns 0, or a usage error. */
+static int sensitivity_arg(cli *c, const eom_system *s)
+{
+    const int n = eom_system_ncoords(s), np = eom_system_nparams(s);
+    const char *p = c->sens_arg;
+    int count = 1, k = 0;
+    for (; *p; p++)
+        count += *p == ',';
+    c->sens = malloc((size_t)count * sizeof *c->sens);
+    if (!c->sens) {
+        fprintf(stderr, "eom-run: out of memory\n");
+        return EXIT_RUN;
+    }
+    for (p = c->sens_arg; k < count; k++) {
+        const char *end = strchr(p, ',');
+        const size_t len = end ? (size_t)(end - p) : strlen(p);
+        char name[160];
+        int i, w = -1;
+        if (len == 0 || len >= sizeof name)
+            return cli_usage_error("--sensitivity: an empty or too long "
+                                   "name in '%s'", c->sens_arg);
+        memcpy(name, p, len);
+        name[len] = '\0';
+        if ((i = eom_param_index(s, name)) >= 0) {
+            w = i;
+        } else if ((i = eom_coord_index(s, name)) >= 0) {
+            w = np + i;
+        } else if (len > 4 && strcmp(name + len - 4, "_dot") == 0) {
+            name[len - 4] = '\0';
+            if ((i = eom_coord_index(s, name)) >= 0)
+                w = np + n + i;
+            name[len - 4] = '_';
+        }
+        if (w < 0)
+            return cli_usage_error("--sensitivity: '%s' is not a parameter, "
+                                   "a coordinate or a rate (NAME_dot) of "
+                                   "the model (--describe lists them)",
+                                   name);
+        c->sens[k] = w;
+        p = end ? end + 1 : p + len;
+    }
+    c->opts.n_sens = count;
+    c->opts.sens = c->sens;
+    return 0;
 }
 
 /* --erk-table: one of the names libeom knows, else the list. */
@@ -361,6 +420,11 @@ static int parse(int argc, char **argv, cli *c)
         case OPT_PLOTS: c->plots = 1; break;
         case OPT_MODES: c->modes = 1; break;
         case OPT_LINEARIZE: c->linearize = 1; break;
+        case OPT_SENSITIVITY:
+            if (!optarg[0])
+                return cli_usage_error("--sensitivity: no name");
+            c->sens_arg = optarg;
+            break;
         case OPT_COLUMNS: rc = columns_arg(optarg, &c->extra); break;
         case OPT_BAUMGARTE:
             rc = baumgarte_arg(optarg, &c->alpha, &c->beta);
@@ -422,6 +486,14 @@ static int run(cli *c, const demo *d)
     if (c->modes + c->describe + c->linearize > 1)
         return cli_usage_error("--modes, --linearize and --describe: give "
                                "one of them");
+    if (c->sens_arg && (c->modes || c->linearize || c->describe))
+        return cli_usage_error("--sensitivity belongs to a run: not with "
+                               "--modes, --linearize or --describe");
+    if (c->sens_arg && c->opts.method != EOM_ADAMS &&
+        c->opts.method != EOM_BDF)
+        return cli_usage_error("--sensitivity: the sensitivities are "
+                               "integrated by --integrator adams or bdf, "
+                               "not %s", eom_method_name(c->opts.method));
     if ((c->modes || c->linearize) && (c->plots || c->out))
         return cli_usage_error("--%s prints to standard output and runs "
                                "nothing: --out and --plots belong to a run",
@@ -465,6 +537,16 @@ static int run(cli *c, const demo *d)
     }
     if (overrides_apply(c->sets, c->nsets, d, s, x0, err, sizeof err) != 0) {
         status = cli_usage_error("%s", err);
+        goto done;
+    }
+    if (c->sens_arg && (rc = sensitivity_arg(c, s)) != 0) {
+        status = rc;
+        goto done;
+    }
+    if (c->sens_arg && eom_system_nconstraints(s) > 0) {
+        fprintf(stderr, "eom-run: %s: --sensitivity: sensitivities of a "
+                "model with constraints are not available "
+                "(docs/integrators.md, \"Sensitivities\")\n", d->name);
         goto done;
     }
     if (c->baumgarte && eom_set_baumgarte(s, c->alpha, c->beta) != EOM_OK) {
@@ -574,6 +656,8 @@ done:
     eom_system_free(&s);
     free(settings);
     free(x0);
+    free(c->sens);
+    c->sens = NULL;
     return status;
 }
 

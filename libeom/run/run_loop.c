@@ -11,6 +11,7 @@
 
 #include "progress.h"
 #include "run_summary.h"
+#include "sens_columns.h"
 
 /* The prefix of every message on standard error, and the model's name. */
 #define PROG(p) ((p)->prog ? (p)->prog : "eom_run")
@@ -47,6 +48,10 @@ typedef struct run_state {
     eom_csv_writer *w;
     eom_run_columns *cols;
     double *row;
+    int count;          /* the row: the columns, then the sensitivities */
+    char **names;       /* [count] the header (borrowed and owned parts) */
+    char **sens_names;  /* the sensitivities' names (owned) */
+    int n_sens_names;
     run_summary sum;
     progress prog;
     double last_flush; /* wall clock of the last flush */
@@ -66,8 +71,17 @@ static int emit(run_state *r, double t, const double *x, double W)
         eom_run_columns_set_stats(r->cols, &st);
     }
     rc = eom_run_columns_fill(r->cols, r->s, t, x, W, r->row, &info);
+    if (r->count > r->cols->count) {
+        int rs = sens_columns_fill(r->s, &r->p->opts, r->it,
+                                   r->row + r->cols->count);
+        if (rs != EOM_OK && rc >= 0) {
+            rc = rs;
+            snprintf(r->cols->msg, sizeof r->cols->msg,
+                     "the sensitivities: %s", eom_status_name(rs));
+        }
+    }
     /* the state is data even when derived quantities failed: keep it */
-    if (eom_csv_writer_row(r->w, r->row, r->cols->count, r->err,
+    if (eom_csv_writer_row(r->w, r->row, r->count, r->err,
                            sizeof r->err) != 0) {
         progress_clear(&r->prog);
         fprintf(stderr, "%s: %s\n", PROG(r->p), r->err);
@@ -137,14 +151,29 @@ int eom_run(eom_system *s, const double *x0, const eom_run_opts *p,
         fprintf(stderr, "%s: %s: %s\n", PROG(p), LABEL(p), r.err);
         return 1;
     }
-    r.row = malloc((size_t)r.cols->count * sizeof(double));
+    r.count = r.cols->count;
+    if (p->opts.n_sens > 0 && p->opts.sens) {
+        const int ns2 = 2 * n * p->opts.n_sens;
+        r.n_sens_names = ns2;
+        if (sens_columns_names(s, &p->opts, &r.sens_names) != 0) {
+            fprintf(stderr, "%s: out of memory\n", PROG(p));
+            goto done;
+        }
+        r.count += ns2;
+    }
+    r.row = malloc((size_t)r.count * sizeof(double));
+    r.names = malloc((size_t)r.count * sizeof *r.names);
     x = malloc(2 * (size_t)n * sizeof(double) + 1);
-    if (!r.row || !x) {
+    if (!r.row || !r.names || !x) {
         fprintf(stderr, "%s: out of memory\n", PROG(p));
         goto done;
     }
+    memcpy(r.names, r.cols->names, (size_t)r.cols->count * sizeof *r.names);
+    if (r.count > r.cols->count)
+        memcpy(r.names + r.cols->count, r.sens_names,
+               (size_t)(r.count - r.cols->count) * sizeof *r.names);
     memcpy(x, x0, 2 * (size_t)n * sizeof(double));
-    if (eom_csv_writer_header(w, r.cols->names, r.cols->count, r.err,
+    if (eom_csv_writer_header(w, r.names, r.count, r.err,
                               sizeof r.err) != 0) {
         fprintf(stderr, "%s: %s\n", PROG(p), r.err);
         goto done;
@@ -186,7 +215,9 @@ done:
                           eom_system_nconstraints(s),
                           progress_clock() - wall0);
     eom_integ_free(&it);
+    sens_columns_free(r.sens_names, r.n_sens_names);
     eom_run_columns_free(&r.cols);
+    free(r.names);
     free(r.row);
     free(x);
     return status;

@@ -256,6 +256,103 @@ static void case_linearize(void)
     result_free(&res);
 }
 
+/* The last row's value of column name in eom-run's CSV on standard out;
+ * NaN when missing. */
+static double last_value(const result *r, const char *name)
+{
+    csv c;
+    char msg[256];
+    double v = NAN;
+    if (csv_parse(r->out, &c, msg, sizeof msg) == 0 && c.nrows > 0 &&
+        csv_col(&c, name) >= 0)
+        v = at(&c, c.nrows - 1, csv_col(&c, name));
+    free(c.v);
+    return v;
+}
+
+/* --sensitivity: the columns' names and order, their values at the start
+ * (unit vectors, zeros), and at t = 1 against central differences of
+ * whole runs with --set (a parameter, an initial coordinate and an
+ * initial rate); the refusals. */
+static void case_sensitivity(void)
+{
+    static const char *const states[] = {"r", "theta", "r_dot",
+                                         "theta_dot"};
+    static const char *const inputs[] = {"k", "theta", "r_dot"};
+    static const double base[] = {75.0, 0.5, 0.0};
+    static const double step[] = {1e-3, 1e-4, 1e-4};
+    const char *args[] = {"spring-pendulum", "--integrator", "adams",
+                          "--rtol", "1e-11", "--atol", "1e-13", "--t-end",
+                          "1", "--sample", "0.5", "--sensitivity",
+                          "k,theta,r_dot", "-q", NULL};
+    const char *bad_method[] = {"spring-pendulum", "--sensitivity", "k",
+                                NULL};
+    const char *bad_name[] = {"spring-pendulum", "--integrator", "bdf",
+                              "--sensitivity", "k,nope", NULL};
+    const char *constrained[] = {"four-bar", "--integrator", "bdf",
+                                 "--sensitivity", "g", NULL};
+    char setarg[64], col[64];
+    const char *fdargs[] = {"spring-pendulum", "--integrator", "adams",
+                            "--rtol", "1e-11", "--atol", "1e-13",
+                            "--t-end", "1", "--sample", "0.5", "--set",
+                            setarg, "-q", NULL};
+    result r, rp, rm;
+    csv c;
+    char msg[256];
+    int k, i;
+
+    run(&r, args);
+    CHECK_INT(r.status, 0);
+    CHECK_HAS(r.out, ",W,d(r)/d(k),d(theta)/d(k),d(r_dot)/d(k),"
+                     "d(theta_dot)/d(k),d(r)/d(theta),");
+    CHECK(csv_parse(r.out, &c, msg, sizeof msg) == 0);
+    CHECK_INT(c.nrows, 3);
+    /* at t = 0: d(x)/d(theta) is the unit vector of theta, d(x)/dk = 0 */
+    CHECK(at(&c, 0, csv_col(&c, "d(theta)/d(theta)")) == 1.0);
+    CHECK(at(&c, 0, csv_col(&c, "d(r)/d(theta)")) == 0.0);
+    CHECK(at(&c, 0, csv_col(&c, "d(r_dot)/d(r_dot)")) == 1.0);
+    CHECK(at(&c, 0, csv_col(&c, "d(r)/d(k)")) == 0.0);
+    free(c.v);
+    for (k = 0; k < 3; k++) {
+        const double h = step[k];
+        snprintf(setarg, sizeof setarg, "%s=%.17g", inputs[k],
+                 base[k] + h);
+        run(&rp, fdargs);
+        snprintf(setarg, sizeof setarg, "%s=%.17g", inputs[k],
+                 base[k] - h);
+        run(&rm, fdargs);
+        CHECK_INT(rp.status, 0);
+        CHECK_INT(rm.status, 0);
+        for (i = 0; i < 4; i++) {
+            const double fd = (last_value(&rp, states[i]) -
+                               last_value(&rm, states[i])) / (2.0 * h);
+            snprintf(col, sizeof col, "d(%s)/d(%s)", states[i], inputs[k]);
+            /* measured within 2e-8 of each other */
+            if (getenv("EOM_TEST_VERBOSE"))
+                fprintf(stderr, "%s: %.10g vs %.10g\n", col,
+                        last_value(&r, col), fd);
+            CHECK_NEAR(last_value(&r, col), fd, 2e-7);
+        }
+        result_free(&rp);
+        result_free(&rm);
+    }
+    result_free(&r);
+
+    run(&r, bad_method);
+    CHECK_INT(r.status, 2);
+    CHECK_HAS(r.err, "adams or bdf");
+    result_free(&r);
+    run(&r, bad_name);
+    CHECK_INT(r.status, 2);
+    CHECK_HAS(r.err, "'nope' is not a parameter");
+    result_free(&r);
+    run(&r, constrained);
+    CHECK_INT(r.status, 1);
+    CHECK_HAS(r.err, "constraints are not available");
+    CHECK(r.out == NULL || r.out[0] == '\0'); /* nothing written */
+    result_free(&r);
+}
+
 /* --plots alone: NAME.csv and the plots in the current directory. */
 static void case_plots(void)
 {
@@ -473,6 +570,7 @@ static const struct {
 } cases[] = {
     {"model_columns", case_columns},
     {"model_linearize", case_linearize},
+    {"model_sensitivity", case_sensitivity},
     {"model_health", case_health},
     {"model_tolerance", case_tolerance},
     {"model_list", case_list},   {"model_describe", case_describe},

@@ -173,7 +173,9 @@ EOM_API void eom_run_grid(double t_end, double sample, long long *K,
                           int *exact);
 
 /* Integrate s (borrowed) from (0, x0) as o says, writing the header and
- * the rows to w (borrowed; flushed at least once a second and before
+ * the rows to w (with o->opts.n_sens, the columns d(x)/d(INPUT) of the
+ * sensitivities follow the others: for each input in order, for each
+ * state, the coordinates then their rates; docs/csv.md) (borrowed; flushed at least once a second and before
  * returning, not closed). Messages and the summary go to standard error.
  * Returns 0, or 1 after a message on a failure (integrator, evaluation or
  * write): the rows before the failure are in w. */
