@@ -1,5 +1,6 @@
 /* integrate_cvode.c - EOM_ADAMS and EOM_BDF: CVODE's variable-order,
- * variable-step multistep methods on y = (q, qd, W).
+ * variable-step multistep methods on y = (q, qd, W), from CVODES (CVODE
+ * with forward sensitivities, the same solver otherwise).
  *
  *   Adams  CV_ADAMS (Adams-Moulton, orders 1..12) with the fixed-point
  *          nonlinear solver: no Jacobian, for non-stiff models.

@@ -374,12 +374,17 @@ static int jac_ready(eom_system *s)
     if (!s->tRes.tape)
         return eom__fail(s, EOM_ERR_MODEL,
                          "the system has no residual tape");
-    s->jz = malloc((3 * n + m + 1 + (size_t)s->np) * sizeof(double));
+    /* after a failure here, what was made is kept for the next try */
+    if (!s->jz)
+        s->jz = malloc((3 * n + m + 1 + (size_t)s->np) * sizeof(double));
     /* wide enough for every column of z but the time */
-    s->jres = malloc(rows * (3 * n + m + (size_t)s->np + 1) *
-                     sizeof(double));
-    s->jB = malloc(n * (2 * n + (size_t)s->np + 1) * sizeof(double));
-    s->jy = malloc(rows * sizeof(double));
+    if (!s->jres)
+        s->jres = malloc(rows * (3 * n + m + (size_t)s->np + 1) *
+                         sizeof(double));
+    if (!s->jB)
+        s->jB = malloc(n * (2 * n + (size_t)s->np + 1) * sizeof(double));
+    if (!s->jy)
+        s->jy = malloc(rows * sizeof(double));
     if (!s->jz || !s->jres || !s->jB || !s->jy ||
         tp_ws_new(&s->tRes.ws, s->tRes.tape, s->tRes.dirs, NULL) != TP_OK)
         return eom__fail(s, EOM_ERR_NOMEM,
