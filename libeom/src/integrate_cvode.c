@@ -264,7 +264,7 @@ static void cv_destroy(eom_integ *it)
     if (c->NLSs)
         SUNNonlinSolFree(c->NLSs);
     if (c->yS)
-        N_VDestroyVectorArray(c->yS, c->ns > 0 ? c->ns : it->o.n_sens);
+        N_VDestroyVectorArray(c->yS, c->ns);
     if (c->LS)
         SUNLinSolFree(c->LS);
     if (c->A)

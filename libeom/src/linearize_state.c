@@ -157,7 +157,7 @@ int eom_linearize_state(eom_system *s, double t, const double *x,
                         eom_state_linear *lin)
 {
     int n2, np, m, i, j, rc;
-    double *Ac = NULL, *Bc = NULL, *G = NULL, *TA = NULL;
+    double *G = NULL, *TA = NULL;
     if (!s)
         return EOM_ERR_NULL;
     s->msg[0] = '\0';
@@ -174,15 +174,13 @@ int eom_linearize_state(eom_system *s, double t, const double *x,
     lin->x = malloc((size_t)n2 * sizeof *lin->x);
     lin->A = malloc((size_t)n2 * n2 * sizeof *lin->A);
     lin->B = malloc((size_t)n2 * (np ? np : 1) * sizeof *lin->B);
-    Ac = malloc((size_t)n2 * n2 * sizeof *Ac);
-    Bc = malloc((size_t)n2 * (np ? np : 1) * sizeof *Bc);
     G = malloc((size_t)(m > 0 ? 2 * m : 1) * n2 * sizeof *G);
-    if (!lin->x || !lin->A || !lin->B || !Ac || !Bc || !G) {
+    if (!lin->x || !lin->A || !lin->B || !G) {
         rc = eom__fail(s, EOM_ERR_NOMEM, "out of memory");
         goto done;
     }
     memcpy(lin->x, x, (size_t)n2 * sizeof *x);
-    if ((rc = eom__state_jacobian(s, t, x, Ac, n2, 0)) != EOM_OK)
+    if ((rc = eom_state_jacobian(s, t, x, lin->A)) != EOM_OK)
         goto done;
     /* phi0 and phi1 rows over (q, qd), left in s->jres by that sweep
      * (rows E, phi2, phi1, phi0, P; stride 2n) */
@@ -193,14 +191,8 @@ int eom_linearize_state(eom_system *s, double t, const double *x,
             G[(size_t)(m + i) * n2 + j] =
                 s->jres[(size_t)(s->n + m + i) * n2 + j];
         }
-    if ((rc = eom__param_jacobian(s, t, x, Bc, n2)) != EOM_OK)
+    if ((rc = eom_param_jacobian(s, t, x, lin->B)) != EOM_OK)
         goto done;
-    for (i = 0; i < n2; i++) {
-        for (j = 0; j < n2; j++)
-            lin->A[(size_t)i * n2 + j] = Ac[(size_t)j * n2 + i];
-        for (j = 0; j < np; j++)
-            lin->B[(size_t)i * np + j] = Bc[(size_t)j * n2 + i];
-    }
     if (m > 0) {
         if ((rc = tangent_basis(s, G, lin)) != EOM_OK)
             goto done;
@@ -240,8 +232,6 @@ int eom_linearize_state(eom_system *s, double t, const double *x,
         rc = eigenvalues(s, lin);
     }
 done:
-    free(Ac);
-    free(Bc);
     free(G);
     free(TA);
     if (rc != EOM_OK) {

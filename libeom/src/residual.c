@@ -96,7 +96,7 @@ static tp_val *handles(const eom_system *s, size_t *count)
                 most = c;
         }
     *count = most;
-    return malloc(12 * most * sizeof(tp_val));
+    return malloc(8 * most * sizeof(tp_val)); /* 8 slices at most */
 }
 
 /* The gradient tape of L: the same independents, every partial an
@@ -393,6 +393,21 @@ static int jac_ready(eom_system *s)
     return EOM_OK;
 }
 
+/* z = (x, qdd, lambda, t, p) into s->jz. */
+static void fill_z(eom_system *s, double t, const double *x,
+                   const double *qdd, const double *lam)
+{
+    const int n = s->n, m = s->m;
+    memcpy(s->jz, x, 2 * (size_t)n * sizeof(double));
+    memcpy(s->jz + 2 * n, qdd, (size_t)n * sizeof(double));
+    if (m > 0)
+        memcpy(s->jz + 3 * n, lam, (size_t)m * sizeof(double));
+    s->jz[3 * n + m] = t;
+    if (s->np > 0)
+        memcpy(s->jz + 3 * n + m + 1, s->pval,
+               (size_t)s->np * sizeof(double));
+}
+
 int eom__residual_jacobian(eom_system *s, double t, const double *x,
                            const double *qdd, const double *lam,
                            double *J)
@@ -405,14 +420,7 @@ int eom__residual_jacobian(eom_system *s, double t, const double *x,
         !eom__finite(qdd, (size_t)n) || !eom__finite(lam, (size_t)m))
         return eom__fail(s, EOM_ERR_NONFINITE,
                          "the state at t = %g is not finite", t);
-    memcpy(s->jz, x, 2 * (size_t)n * sizeof(double));
-    memcpy(s->jz + 2 * n, qdd, (size_t)n * sizeof(double));
-    if (m > 0)
-        memcpy(s->jz + 3 * n, lam, (size_t)m * sizeof(double));
-    s->jz[3 * n + m] = t;
-    if (s->np > 0)
-        memcpy(s->jz + 3 * n + m + 1, s->pval,
-               (size_t)s->np * sizeof(double));
+    fill_z(s, t, x, qdd, lam);
     st = tp_jacobian(s->tRes.ws, s->jz, 0, 3 * n + m, s->jy, J);
     return eom__tape_status(s, st, "the Jacobian of the equations");
 }
@@ -535,20 +543,6 @@ size_t eom__sens_work(const eom_system *s, int ns)
             (2 * n + 1)) * k;
 }
 
-/* z = (x, qdd, lambda, t, p) from the evaluation s holds. */
-static void fill_z(eom_system *s, double t, const double *x)
-{
-    const int n = s->n, m = s->m;
-    memcpy(s->jz, x, 2 * (size_t)n * sizeof(double));
-    memcpy(s->jz + 2 * n, s->qdd, (size_t)n * sizeof(double));
-    if (m > 0)
-        memcpy(s->jz + 3 * n, s->lam, (size_t)m * sizeof(double));
-    s->jz[3 * n + m] = t;
-    if (s->np > 0)
-        memcpy(s->jz + 3 * n + m + 1, s->pval,
-               (size_t)s->np * sizeof(double));
-}
-
 /* Evaluate at (t, x) and fill z. */
 static int evaluate_z(eom_system *s, double t, const double *x)
 {
@@ -557,7 +551,7 @@ static int evaluate_z(eom_system *s, double t, const double *x)
         return rc;
     if ((rc = eom__evaluate(s, t, x)) != EOM_OK)
         return rc;
-    fill_z(s, t, x);
+    fill_z(s, t, x, s->qdd, s->lam);
     return EOM_OK;
 }
 
@@ -597,7 +591,7 @@ int eom__sens_rhs(eom_system *s, double t, const double *x, int evaluated,
     if (evaluated) { /* s holds the evaluation at (t, x): z from it */
         if ((rc = jac_ready(s)) != EOM_OK)
             return rc;
-        fill_z(s, t, x);
+        fill_z(s, t, x, s->qdd, s->lam);
     } else if ((rc = evaluate_z(s, t, x)) != EOM_OK) {
         return rc;
     }
@@ -639,52 +633,43 @@ int eom__param_jacobian(eom_system *s, double t, const double *x,
     return xd_columns(s, t, x, 3 * s->n + s->m + 1, s->np, B, ldb, 0);
 }
 
-int eom_state_jacobian(eom_system *s, double t, const double *x, double *A)
+/* The public form of d(xd)/dx (params 0) or d(xd)/dp (params 1): 2n
+ * rows, row-major, from the column-major internal one. */
+static int xd_rows(eom_system *s, double t, const double *x, int params,
+                   double *out, const char *fn)
 {
     const int n2 = s ? 2 * s->n : 0;
-    double *Ac;
+    const int count = s ? (params ? s->np : n2) : 0;
+    double *cols;
     int i, j, rc;
     if (!s)
         return EOM_ERR_NULL;
     s->msg[0] = '\0';
-    if (!x || !A)
-        return eom__fail(s, EOM_ERR_NULL,
-                         "eom_state_jacobian: x or A is NULL");
-    Ac = malloc((size_t)n2 * (size_t)n2 * sizeof(double));
-    if (!Ac)
+    if (!x || (!out && count > 0))
+        return eom__fail(s, EOM_ERR_NULL, "%s: x or %s is NULL", fn,
+                         params ? "B" : "A");
+    cols = malloc((size_t)n2 * (size_t)(count ? count : 1) *
+                  sizeof(double));
+    if (!cols)
         return eom__fail(s, EOM_ERR_NOMEM, "out of memory");
-    rc = eom__state_jacobian(s, t, x, Ac, n2, 0);
+    rc = params ? eom__param_jacobian(s, t, x, cols, n2)
+                : eom__state_jacobian(s, t, x, cols, n2, 0);
     if (rc == EOM_OK)
         for (i = 0; i < n2; i++)
-            for (j = 0; j < n2; j++)
-                A[(size_t)i * n2 + j] = Ac[(size_t)j * n2 + i];
-    free(Ac);
+            for (j = 0; j < count; j++)
+                out[(size_t)i * count + j] = cols[(size_t)j * n2 + i];
+    free(cols);
     if (rc == EOM_OK)
         s->msg[0] = '\0';
     return rc;
 }
 
+int eom_state_jacobian(eom_system *s, double t, const double *x, double *A)
+{
+    return xd_rows(s, t, x, 0, A, "eom_state_jacobian");
+}
+
 int eom_param_jacobian(eom_system *s, double t, const double *x, double *B)
 {
-    const int n2 = s ? 2 * s->n : 0, np = s ? s->np : 0;
-    double *Bc;
-    int i, j, rc;
-    if (!s)
-        return EOM_ERR_NULL;
-    s->msg[0] = '\0';
-    if (!x || (!B && np > 0))
-        return eom__fail(s, EOM_ERR_NULL,
-                         "eom_param_jacobian: x or B is NULL");
-    Bc = malloc((size_t)n2 * (size_t)(np ? np : 1) * sizeof(double));
-    if (!Bc)
-        return eom__fail(s, EOM_ERR_NOMEM, "out of memory");
-    rc = eom__param_jacobian(s, t, x, Bc, n2);
-    if (rc == EOM_OK)
-        for (i = 0; i < n2; i++)
-            for (j = 0; j < np; j++)
-                B[(size_t)i * np + j] = Bc[(size_t)j * n2 + i];
-    free(Bc);
-    if (rc == EOM_OK)
-        s->msg[0] = '\0';
-    return rc;
+    return xd_rows(s, t, x, 1, B, "eom_param_jacobian");
 }
