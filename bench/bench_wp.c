@@ -57,6 +57,7 @@ static void plan_full(wp_plan *p)
     memset(p, 0, sizeof *p);
     p->t_end = 10.0;
     p->sample = 0.1;
+    p->nmethods = 5; /* rk4 to ida */
     p->rtol_loose = 1e-3;
     p->rtol_tight = 1e-12;
     p->atol_per_rtol = 1e-2;
@@ -225,14 +226,15 @@ static void print_target(const wp_sweep *w)
     int k, kbest = -1;
     char ms[32];
     wp_time_at_error(&w->runs[w->first[EOM_RK4]], w->count[EOM_RK4], target,
-                     &t_rk4);
+                     0, &t_rk4);
     printf("## Target: %s, state error %.0e at t = %g s\n\n", w->demo,
            target, w->plan->t_end);
     wp_ms_text(t_rk4, ms, sizeof ms);
     printf("- rk4: %s ms\n", isfinite(t_rk4) ? ms : "not reached");
-    for (k = EOM_ERK; k < WP_NMETHODS; k++) {
+    for (k = EOM_ERK; k < w->plan->nmethods; k++) {
         const wp_reach how = wp_time_at_error(&w->runs[w->first[k]],
-                                              w->count[k], target, &t);
+                                              w->count[k], target, 0,
+                                              &t);
         wp_ms_text(t, ms, sizeof ms);
         if (how == WP_NOT_REACHED) {
             printf("- %s: not reached\n", eom_method_name((eom_method)k));

@@ -13,11 +13,13 @@ typedef enum wp_reach {
                        time is an upper bound */
 } wp_reach;
 
-/* The wall time at which the sweep runs[0 .. nruns-1] (one method, in
- * sweep order from the loosest setting to the tightest) first reaches
- * state error <= target. Failed runs are skipped. *time receives the
- * interpolated time (NAN when not reached). */
+/* The time at which the sweep runs[0 .. nruns-1] (one method, in sweep
+ * order from the loosest setting to the tightest) first reaches state
+ * error <= target: wall time, or with cpu set CPU time (on a machine
+ * that other work shares, the steadier of the two). Failed runs are
+ * skipped. *time receives the interpolated time (NAN when not
+ * reached). */
 wp_reach wp_time_at_error(const wp_run *runs, int nruns, double target,
-                          double *time);
+                          int cpu, double *time);
 
 #endif

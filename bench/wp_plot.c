@@ -66,7 +66,7 @@ static void write_dat(FILE *f, const wp_sweep *w)
             "# columns: state error, wall time (s), angle error, energy "
             "error, steps, rhs,\n# setting (rk4: dt; others: rtol). Errors "
             "of exactly 0 are written as 1e-18.\n", w->demo, w->plan->t_end);
-    for (k = 0; k < WP_NMETHODS; k++)
+    for (k = 0; k < w->plan->nmethods; k++)
         if (!drawable(w, k))
             fprintf(f, "# %s: no finished run\n",
                     eom_method_name((eom_method)k));
@@ -96,7 +96,7 @@ static void write_gp(FILE *f, const wp_sweep *w)
     static const char *const style[WP_NMETHODS] = {
         "lc rgb '#000000' pt 5", "lc rgb '#1f77b4' pt 7",
         "lc rgb '#2ca02c' pt 9", "lc rgb '#d62728' pt 13",
-        "lc rgb '#9467bd' pt 11"};
+        "lc rgb '#9467bd' pt 11", "lc rgb '#ff7f0e' pt 15"};
     int k, block = 0, first = 1;
     fprintf(f, "# %s-wp.gp - %s: wall time against the state error at "
             "t = %g s,\n# one series per integrator, from %s-wp.dat. "

@@ -136,6 +136,7 @@ int wp_run_first(eom_system *s, const double *x0, double t_end,
     r->steps = st.steps;
     r->rhs = st.rhs_evals;
     r->failures = st.failures;
+    r->jacs = st.jac_evals;
     r->drift = st.max_residual;
     return r->status;
 }

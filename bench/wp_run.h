@@ -32,7 +32,7 @@ typedef struct wp_run {
     double cpu;          /* seconds of CPU: the smallest likewise */
     int reps;            /* repetitions timed */
     int irreproducible;  /* 1 if a repetition gave other steps or state */
-    long steps, rhs, failures; /* eom_stats of the first repetition */
+    long steps, rhs, failures, jacs; /* eom_stats of the first repetition */
     double energy_err;   /* max |E + W - E0| / max(|E0|, T0 + |V0|)
                             (infinite if the energy could not be had) */
     double phi_max;      /* max |phi| on the samples (what the caller got) */

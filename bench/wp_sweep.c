@@ -80,14 +80,16 @@ static int reference(wp_sweep *w)
 static int settings(wp_sweep *w)
 {
     const wp_plan *p = w->plan;
-    int ndec = (int)floor(log10(p->rtol_loose / p->rtol_tight) + 0.5) + 1;
+    const int ndec =
+        (int)floor(log10(p->rtol_loose / p->rtol_tight) + 0.5) + 1;
+    const int nruns = p->ndt + (p->nmethods - 1) * ndec;
     int k, j, i = 0;
-    w->runs = calloc((size_t)(p->ndt + 4 * ndec), sizeof(wp_run));
+    w->runs = calloc((size_t)nruns, sizeof(wp_run));
     if (!w->runs)
         return -1;
-    w->nruns = p->ndt + 4 * ndec; /* zeroed: wp_sweep_free may free all */
+    w->nruns = nruns; /* zeroed: wp_sweep_free may free all */
     for (k = 0; k < WP_NMETHODS; k++) {
-        const int cnt = k == EOM_RK4 ? p->ndt : ndec;
+        const int cnt = k >= p->nmethods ? 0 : k == EOM_RK4 ? p->ndt : ndec;
         w->first[k] = i;
         w->count[k] = cnt;
         for (j = 0; j < cnt; j++, i++) {

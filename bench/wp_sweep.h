@@ -16,7 +16,8 @@
 
 #include "wp_run.h"
 
-enum { WP_NMETHODS = 5 }; /* rk4, erk, adams, bdf, ida: eom_method order */
+/* rk4, erk, adams, bdf, ida, esdirk: eom_method order */
+enum { WP_NMETHODS = 6 };
 
 typedef struct wp_plan {
     double t_end, sample;    /* s: the run, and the interval of samples */
@@ -25,6 +26,8 @@ typedef struct wp_plan {
     const double *dts;       /* rk4 steps, largest first */
     int ndt;
     double rk4_stop;         /* rk4 stops once its error is below this */
+    int nmethods;            /* the methods 0 .. nmethods-1 are swept
+                                (5: rk4 to ida; WP_NMETHODS: and esdirk) */
     eom_method ref_method, check_method; /* the reference, its check */
     double ref_rtol, check_rtol; /* their tolerances */
     int rounds;              /* timing rounds: the most repetitions */

@@ -137,7 +137,7 @@ static void reach_cell(const wp_sweep *w, int k, double target, double *t,
 {
     char ms[32];
     const wp_reach how = wp_time_at_error(&w->runs[w->first[k]], w->count[k],
-                                          target, t);
+                                          target, 0, t);
     wp_ms_text(*t, ms, sizeof ms);
     if (how == WP_NOT_REACHED)
         snprintf(buf, len, "not reached");
@@ -150,6 +150,8 @@ static void reach_cell(const wp_sweep *w, int k, double target, double *t,
 void wp_summary_write(FILE *f, const wp_sweep *w, int nw,
                       const double *targets, int nt)
 {
+    /* the columns: every demo's plan sweeps the same methods */
+    const int nmeth = nw > 0 ? w[0].plan->nmethods : 0;
     int d, i, k;
     fputs("## Summary: time to reach a state error\n\n"
           "Wall time in ms to reach the state error at t-end, interpolated "
@@ -158,10 +160,10 @@ void wp_summary_write(FILE *f, const wp_sweep *w, int nw,
           "accurate, so its time is an upper bound. The last column is "
           "rk4's time over the fastest adaptive method's.\n\n", f);
     fputs("| demo | error |", f);
-    for (k = 0; k < WP_NMETHODS; k++)
+    for (k = 0; k < nmeth; k++)
         fprintf(f, " %s |", eom_method_name((eom_method)k));
     fputs(" fastest | rk4 / best adaptive |\n|---|---|", f);
-    for (k = 0; k < WP_NMETHODS; k++)
+    for (k = 0; k < nmeth; k++)
         fputs("---|", f);
     fputs("---|---|\n", f);
     for (d = 0; d < nw; d++)
@@ -170,7 +172,7 @@ void wp_summary_write(FILE *f, const wp_sweep *w, int nw,
             int kbest = -1;
             char buf[64];
             fprintf(f, "| %s | %.0e |", w[d].demo, targets[i]);
-            for (k = 0; k < WP_NMETHODS; k++) {
+            for (k = 0; k < nmeth; k++) {
                 reach_cell(&w[d], k, targets[i], &t[k], buf, sizeof buf);
                 fprintf(f, " %s |", buf);
                 if (isfinite(t[k]) && t[k] < best) {
