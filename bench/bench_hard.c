@@ -20,46 +20,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "eom/chain.h"
+#include "bench_chain.h"
 
 static const double pi = 3.14159265358979323846;
-
-typedef struct chain_cfg {
-    int links, modes, closed;
-    double EI, D, g, c;
-    const double *theta0;
-} chain_cfg;
-
-static eom_system *make_chain(const chain_cfg *cfg, char *msg, size_t len)
-{
-    unsigned char damped[64] = {0};
-    eom_chain_spec sp;
-    eom_model *m = NULL;
-    eom_system *s = NULL;
-    int j;
-    memset(&sp, 0, sizeof sp);
-    for (j = 1; j <= cfg->links && j < 64; j++)
-        damped[j] = 1; /* every joint but the base */
-    sp.links = cfg->links;
-    sp.modes_all = cfg->modes;
-    sp.m = 1.0;
-    sp.L = 10.0;
-    sp.EI = cfg->EI;
-    sp.g = cfg->g;
-    sp.c = cfg->c;
-    sp.damped = cfg->links < 64 ? damped : NULL;
-    sp.closed = cfg->closed;
-    sp.D = cfg->D;
-    sp.theta0 = cfg->theta0;
-    if (eom_model_new(&m) != EOM_OK || eom_chain_add(m, &sp) < 0 ||
-        eom_system_new(&s, m, msg, len) != EOM_OK) {
-        if (m && eom_model_errmsg(m)[0])
-            snprintf(msg, len, "%s", eom_model_errmsg(m));
-        s = NULL;
-    }
-    eom_model_free(&m);
-    return s;
-}
 
 typedef struct outcome {
     int status;
@@ -158,9 +121,6 @@ static void row(const char *name, const char *method, const outcome *o,
     fflush(stdout);
 }
 
-static const double paper5[5] = {5 * pi / 12, pi / 12, 0, 17 * pi / 12,
-                                 13 * pi / 12};
-
 /* rtol, and atol on every component: tight enough to resolve the beams'
  * vibration, or loose enough to let an implicit method step over it */
 static const double tols[2][2] = {{1e-7, 1e-10}, {1e-6, 1e-6}};
@@ -173,10 +133,10 @@ static void stiff(int quick)
     const double t_end = quick ? 0.1 : 2.0;
     int f, k, tl;
     for (f = 0; f < 2; f++) {
-        chain_cfg cfg = {5, 3, 1, 4e4 * factors[f], 10.0, 9.81, 10.0,
-                         paper5};
+        chain_cfg cfg = {5, 3, 1, 4e4 * factors[f], 10.0, 9.81, 10.0, 0.0,
+                         bench_paper5};
         char name[64], msg[256];
-        eom_system *s = make_chain(&cfg, msg, sizeof msg);
+        eom_system *s = bench_chain_new(&cfg, msg, sizeof msg);
         outcome ref, o;
         if (!s) {
             printf("| stiff | set-up failed: %s |\n", msg);
@@ -214,7 +174,7 @@ static void singular(int quick)
     int k;
     for (k = 0; k < 3; k++) {
         double th[5];
-        chain_cfg cfg = {5, 1, 1, 4e4, gaps[k], 9.81, 10.0, th};
+        chain_cfg cfg = {5, 1, 1, 4e4, gaps[k], 9.81, 10.0, 0.0, th};
         char name[64], msg[256];
         eom_system *s;
         outcome o;
@@ -223,7 +183,7 @@ static void singular(int quick)
          * it exactly */
         for (j = 0; j < 5; j++)
             th[j] = 0.02 * (1.0 - j / 2.0);
-        s = make_chain(&cfg, msg, sizeof msg);
+        s = bench_chain_new(&cfg, msg, sizeof msg);
         snprintf(name, sizeof name, "closed chain, D = %g of 50", gaps[k]);
         if (!s) {
             printf("| %s | set-up failed: %s |\n", name, msg);
@@ -246,8 +206,8 @@ static void long_runs(int quick)
     for (j = 0; j < 50; j++)
         th[j] = -pi / 2 + (j % 2 ? -0.3 : 0.3);
     {
-        chain_cfg cfg = {50, 2, 0, 4e4, 0.0, 9.81, 0.0, th};
-        eom_system *s = make_chain(&cfg, msg, sizeof msg);
+        chain_cfg cfg = {50, 2, 0, 4e4, 0.0, 9.81, 0.0, 0.0, th};
+        eom_system *s = bench_chain_new(&cfg, msg, sizeof msg);
         if (s) {
             run(s, EOM_ADAMS, 1e-8, 1e-11, 0.0, quick ? 0.05 : 1.0, 10, &o);
             row("open chain, 50 links x 2 modes", "adams 1e-8, 1e-11", &o,
@@ -261,8 +221,9 @@ static void long_runs(int quick)
         }
     }
     {
-        chain_cfg cfg = {5, 1, 1, 4e4, 10.0, 9.81, 10.0, paper5};
-        eom_system *s = make_chain(&cfg, msg, sizeof msg);
+        chain_cfg cfg = {5, 1, 1, 4e4, 10.0, 9.81, 10.0, 0.0,
+                         bench_paper5};
+        eom_system *s = bench_chain_new(&cfg, msg, sizeof msg);
         if (s) {
             run(s, EOM_ADAMS, 1e-8, 1e-11, 0.0, quick ? 10.0 : 1000.0, 100,
                 &o);

@@ -20,8 +20,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bench_chain.h"
 #include "bench_util.h"
-#include "eom/chain.h"
 #include "eom/eom.h"
 
 static const double pi = 3.14159265358979323846;
@@ -36,30 +36,19 @@ typedef struct result {
 
 static eom_system *chain(int links, int modes, char *msg, size_t len)
 {
-    eom_chain_spec sp;
-    eom_model *m = NULL;
-    eom_system *s = NULL;
+    chain_cfg cfg = {0, 0, 0, 4e4 /* bench-hard's flexible chains */, 0.0,
+                     9.81, 0.0, 0.0, NULL};
+    eom_system *s;
     double *th = malloc((size_t)links * sizeof *th);
     int j;
     if (!th)
         return NULL;
     for (j = 0; j < links; j++)
         th[j] = -pi / 2 + (j % 2 ? -0.3 : 0.3);
-    memset(&sp, 0, sizeof sp);
-    sp.links = links;
-    sp.modes_all = modes;
-    sp.EI = 4e4; /* bench-hard's flexible chains */
-    sp.m = 1.0;
-    sp.L = 10.0;
-    sp.g = 9.81;
-    sp.theta0 = th;
-    if (eom_model_new(&m) != EOM_OK || eom_chain_add(m, &sp) < 0 ||
-        eom_system_new(&s, m, msg, len) != EOM_OK) {
-        if (m && eom_model_errmsg(m)[0])
-            snprintf(msg, len, "%s", eom_model_errmsg(m));
-        s = NULL;
-    }
-    eom_model_free(&m);
+    cfg.links = links;
+    cfg.modes = modes;
+    cfg.theta0 = th;
+    s = bench_chain_new(&cfg, msg, len);
     free(th);
     return s;
 }
