@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "codegen.h"
 #include "tape_internal.h"
 
 static int fail(tp_ws *ws, int status, const char *fmt, ...)
@@ -309,7 +310,7 @@ int tp_lagrange_t(tp_ws *ws, const double *x, int out, double *L,
     const double *w, *qd;
     uint32_t end;
     int n, c0, k, i;
-    bool timed;
+    bool timed, compiled;
     if (st)
         return st;
     T = ws->t;
@@ -326,14 +327,21 @@ int tp_lagrange_t(tp_ws *ws, const double *x, int out, double *L,
     }
     if (h)
         memset(h, 0, (size_t)n * sizeof(double));
+    /* compiled: the whole block in one call (lcount = n <= max_dirs) */
+    compiled = ws->cc && ws->cc->lagrange && ws->cc->lout == out &&
+               ws->cc->lfirst == n && n <= ws->max_dirs && (M || h);
     for (c0 = 0; c0 < n && (M || h); c0 += ws->max_dirs) {
         const int pc = n - c0 < ws->max_dirs ? n - c0 : ws->max_dirs;
         const unsigned mask = tp__seed_mask(T, pc, NULL, 0, n + c0);
         /* rows: d/dq (n), then d/dqd (n), then d/dt when timed */
         const double *H = ws->hs;
-        tp__fwd1(ws, x, pc, NULL, 0, n + c0, mask, end);
-        tp__rev2(ws, w, pc, mask, end, c0 == 0 ? ws->g : NULL, ws->hs,
-                 (size_t)pc);
+        if (compiled) {
+            tp__lagrange_compiled(ws, x, ws->g, ws->hs);
+        } else {
+            tp__fwd1(ws, x, pc, NULL, 0, n + c0, mask, end);
+            tp__rev2(ws, w, pc, mask, end, c0 == 0 ? ws->g : NULL, ws->hs,
+                     (size_t)pc);
+        }
         for (k = 0; k < pc; k++) {
             if (M)
                 for (i = 0; i < n; i++)

@@ -32,14 +32,6 @@
 #include "tape_ops.h"
 
 #define TP_MAX_GROUPS 6
-/* The dep byte of an op: the groups it depends on (low bits) and, for a
- * binary op that depends on some group, which operand (if any) is passive:
- * sweeps never write a derivative row or adjoint of a passive slot. */
-#define TP_DEP_GROUPS 0x3fu
-#define TP_DEP_UPASSIVE 0x40u
-#define TP_DEP_TPASSIVE 0x80u
-/* Direction rows are padded to a multiple of this many columns. */
-#define TP_LANES 4
 #define TP_MSG_LEN 256
 /* Slot indices are 32-bit; leave room for "no slot". */
 #define TP_MAX_OPS (UINT32_MAX / 2u)
@@ -195,6 +187,9 @@ struct tp_ws {
     bool passive_stale; /* v of the passive ops needs recomputing */
     unsigned tan_mask; /* rows of ops outside this dependency mask are zero */
     int tan_cols;      /* columns of active rows that may be non-zero */
+    const tp_compiled *cc; /* compiled sweeps in use, or NULL */
+    double *cat, *cadj;    /* [n_ops * P], [n_ops]: scratch of its Lagrange
+                              block (made with the first such cc) */
     char msg[TP_MSG_LEN];
 };
 
@@ -210,6 +205,10 @@ void tp__rev1(tp_ws *ws, const double *w, uint32_t end, double *g);
 void tp__rev2(tp_ws *ws, const double *w, int p, unsigned mask, uint32_t end,
               double *g, double *HS, size_t ldh);
 void tp__taylor2(tp_ws *ws, const double *x, const double *d, uint32_t end);
+/* The compiled Lagrange block of ws->cc at x: g[n_indep] and H (n_indep x
+ * lcount), keeping the tangent rows to fwd1's invariant (forward.c). */
+void tp__lagrange_compiled(tp_ws *ws, const double *x, double *g,
+                           double *H);
 /* Recompute the passive prefix of v if a parameter changed (forward.c). */
 void tp__ensure_passive(tp_ws *ws);
 /* The dependency mask of a seed (groups of independents it touches). */

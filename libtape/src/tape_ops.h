@@ -66,6 +66,16 @@ enum tp_opcode {
         TP_OP_COUNT
 };
 
+/* The dep byte of a tape op: the groups of independents it depends on (low
+ * bits) and, for a binary op that depends on some group, which operand (if
+ * any) is passive: sweeps never write a derivative row or adjoint of a
+ * passive slot. */
+#define TP_DEP_GROUPS 0x3fu
+#define TP_DEP_UPASSIVE 0x40u
+#define TP_DEP_TPASSIVE 0x80u
+/* Direction rows are padded to a multiple of this many columns. */
+#define TP_LANES 4
+
 enum tp_op_kind { TP_KIND_LEAF, TP_KIND_UNARY, TP_KIND_UCONST, TP_KIND_UINT,
                   TP_KIND_BINARY };
 

@@ -21,6 +21,8 @@ static void ws_release(tp_ws *ws)
     tp__free(&al, ws->anz, n);
     tp__free(&al, ws->d1, n * sizeof(double));
     tp__free(&al, ws->d2, n * sizeof(double));
+    tp__free(&al, ws->cat, n * P * sizeof(double));
+    tp__free(&al, ws->cadj, n * sizeof(double));
     if (T) {
         tp__free(&al, ws->param, T->n_param * sizeof(double));
         tp__free(&al, ws->hs, (size_t)T->n_indep * P * sizeof(double));

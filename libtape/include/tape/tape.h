@@ -29,6 +29,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #if defined(_WIN32)
 #define TP_API
@@ -63,7 +64,10 @@ extern "C" {
     X(TP_ERR_USER, -9, "a user callback returned an error")                    \
     X(TP_ERR_TOOBIG, -10, "the tape or a buffer would exceed its size limit")  \
     X(TP_ERR_EMPTY, -11, "nothing to do: the recording has no outputs, or "    \
-                         "no result is available yet")
+                         "no result is available yet")                         \
+    X(TP_ERR_COMPILE, -12, "the tape could not be compiled to machine code "   \
+                           "(no C compiler, a compiler error, or a check "     \
+                           "against the interpreter failed)")
 
 typedef enum tp_status {
 #define TP_STATUS_ENUM_(name, value, text) name = value,
@@ -377,6 +381,75 @@ TP_API int tp_call_jvp(tp_rec *r, const tp_tape *t, const tp_val *x,
 TP_API int tp_call_vjp(tp_rec *r, const tp_tape *t, const tp_val *x,
                        const tp_val *par, const tp_val *w, tp_val *y,
                        tp_val *gx, tp_val *gpar);
+
+/* ---- compiled tapes ---------------------------------------------------- */
+
+/* A tape as machine code: its sweeps emitted as C (one statement per op,
+ * the interpreter's own per-op code with the op's slots and constants as
+ * literals), built by the system's C compiler into a shared object, kept
+ * in a per-user cache and loaded. A workspace given one runs every sweep
+ * through it, with the interpreter's results: the per-op arithmetic is
+ * the same text, compiled without contraction of multiply-adds, and every
+ * object is compared with the interpreter at one state when it is loaded.
+ * Immutable once made: workspaces of any thread may share one. Free it
+ * after the workspaces that use it, and before its tape. */
+typedef struct tp_compiled tp_compiled;
+
+typedef struct tp_compile_opts {
+    /* The compiler command, words separated by blanks (NULL or "": the
+     * environment's CC, else "cc"). */
+    const char *cc;
+    /* Its flags (NULL: "-O1"); -fPIC -shared -ffp-contract=off are always
+     * added. Flags that change rounding (-ffast-math) fail the check. */
+    const char *cflags;
+    /* The cache (NULL: $AUTOEOM_CACHE_DIR, else $XDG_CACHE_HOME/autoeom,
+     * else $HOME/.cache/autoeom); created with mode 0700. */
+    const char *cache_dir;
+    /* The state [n_indep] at which the loaded object is checked against
+     * the interpreter (NULL: a fixed point with entries in 0.3 .. 0.85).
+     * Give a state inside the model's domain. */
+    const double *x;
+    /* The max_dirs of the workspaces that will use it (0: any). With it
+     * the direction loops have a fixed length, which compiles to faster
+     * code; such a compiled tape serves only workspaces of that max_dirs
+     * (tp_ws_set_compiled checks), and sweeps of fewer directions run on
+     * the interpreter. */
+    int max_dirs;
+    /* 1: also compile the Lagrange block of output lagrange_out, which
+     * tp_lagrange and tp_lagrange_t then run in one call: the tape's
+     * independents must be (q, qd) or (q, qd, t) with the rates a
+     * dependency group of their own, and max_dirs >= n. */
+    int lagrange;
+    int lagrange_out;
+} tp_compile_opts;
+
+typedef struct tp_compile_info {
+    int cached;   /* 1: loaded from the cache, nothing was compiled */
+    int rebuilt;  /* 1: a cache entry failed its checks and was rebuilt */
+    double t_emit, t_compile, t_load, t_check; /* seconds */
+    size_t source_bytes; /* size of the generated C source */
+    char path[1024];     /* the shared object */
+    char msg[512];       /* why it failed, or what was rebuilt and why */
+} tp_compile_info;
+
+/* Compile t (or load it from the cache). On success *out is the compiled
+ * tape and info (may be NULL) says how it was obtained; on failure *out
+ * is NULL, the status is TP_ERR_COMPILE (or TP_ERR_NOMEM, TP_ERR_NULL) and
+ * info->msg says why: the tape still runs on the interpreter. Never
+ * terminates the caller: the compiler runs as a child process. The
+ * compiler's messages of a failed build stay in the cache as NAME.log;
+ * the generated source of each entry as NAME.c. */
+TP_API int tp_compile(const tp_tape *t, const tp_compile_opts *o,
+                      tp_compiled **out, tp_compile_info *info);
+TP_API void tp_compiled_free(tp_compiled **c);
+/* Run ws's sweeps through c (NULL: back to the interpreter). c must have
+ * been made from ws's tape (TP_ERR_FOREIGN otherwise). */
+TP_API int tp_ws_set_compiled(tp_ws *ws, const tp_compiled *c);
+/* 1 if ws runs compiled code, else 0. */
+TP_API int tp_ws_compiled(const tp_ws *ws);
+/* Write the C source that tp_compile builds for t (without its cache
+ * key) to out. */
+TP_API int tp_tape_emit_c(const tp_tape *t, FILE *out);
 
 #ifdef __cplusplus
 }

@@ -1,0 +1,74 @@
+/* codegen.h - what the compiled-tape files share (codegen.c emits the
+ * source, compile.c builds, caches and loads it, textbuf.c holds the text
+ * while it grows). Not installed. */
+#ifndef TAPE_CODEGEN_H
+#define TAPE_CODEGEN_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include "sweep_ops.h"
+#include "tape_internal.h"
+
+/* Bumped whenever the generated source's interface changes (the entry
+ * points, tp_kx); part of the cache key and checked on load. */
+#define TP_CODEGEN_FORMAT 1
+
+/* A growing string; after a failed allocation `failed` is set and further
+ * appends do nothing. */
+typedef struct tp_sbuf {
+    char *p;
+    size_t len, cap;
+    bool failed;
+} tp_sbuf;
+
+void tp__sbuf_puts(tp_sbuf *b, const char *s);
+void tp__sbuf_printf(tp_sbuf *b, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+void tp__sbuf_free(tp_sbuf *b);
+
+/* The per-op kernels as text, NULL-terminated (made at build time from
+ * tape_ops.h, op_math.h and sweep_ops.h). */
+extern const char *const tp__kernel_text[];
+
+/* The C source of tape T, appended to b: TP_OK or TP_ERR_NOMEM (or
+ * tp__emit_lagrange's TP_ERR_SIZE). P is the row width the workspaces
+ * will have (a multiple of TP_LANES, 0: unknown); with lagrange_out >= 0
+ * the Lagrange block of that output is included (it needs P). */
+int tp__emit_c(const tp_tape *T, int P, int lagrange_out, tp_sbuf *b);
+
+/* The Lagrange block of output out (codegen_lagrange.c): the function
+ * tpc_lagrange(v, aux, tan, at, adj, g, H) giving the output's gradient g
+ * and its Hessian columns H (n_indep x count) for unit directions on the
+ * independents first .. first + count - 1, rows P wide. TP_ERR_SIZE when
+ * the block is not made of whole dependency groups. */
+int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
+                      int P, tp_sbuf *b);
+
+/* The name of op's own function in sweep_ops.h ("MUL"), or "GEN". */
+const char *tp__op_fn_name(unsigned op);
+
+typedef void (*tp_lagrange_fn)(double *v, double *aux, double *tan,
+                               double *at, double *adj, double *g,
+                               double *H);
+
+/* The entry points of a loaded compiled tape: each runs one sweep's ops
+ * from first_active up to end (forward) or from end - 1 down (reverse). */
+typedef void (*tp_kernel_fn)(const tp_kx *x, uint32_t end);
+
+struct tp_compiled {
+    const tp_tape *t; /* the tape it was made from */
+    void *dl;         /* dlopen handle */
+    int P;            /* row width it was made for, 0: any */
+    tp_kernel_fn fwd0, rev1;
+    /* the Lagrange block, or NULL: output lout, unit directions on the
+     * independents lfirst .. lfirst + lcount - 1, seeded groups lmask */
+    tp_lagrange_fn lagrange;
+    int lout, lfirst, lcount;
+    unsigned lmask;
+};
+
+#endif /* TAPE_CODEGEN_H */

@@ -1,0 +1,524 @@
+/* codegen_lagrange.c - the Lagrange block of a compiled tape: one output's
+ * gradient and its Hessian columns for unit directions on a block of
+ * independents (for a Lagrangian: dL/dx and d2L/dx dqd, from which
+ * tp_lagrange forms M and h), as straight-line C specialized to the tape.
+ *
+ * What the interpreter decides while sweeping, this decides once while
+ * writing the code: which ops the output needs (its cone), which tangent
+ * rows are structurally zero (the op depends on no seeded group), which
+ * adjoint-tangent rows have been reached (the interpreter's anz flags),
+ * and where each adjoint and row is first written, so the code assigns
+ * instead of accumulating into zeroed memory and never clears anything.
+ * The per-op arithmetic is the interpreter's (sweep_ops.h), term for term
+ * and in the same order; terms whose row is structurally zero are left
+ * out, which changes no finite result.
+ *
+ * The code reads the leaves' and passive ops' values from v (the caller
+ * loads them), writes values of the cone into v and aux, tangent rows
+ * into tan (only rows of ops depending on a seeded group, as a forward
+ * sweep with that mask would), and uses at and adj as scratch of its own.
+ * Rows are P (a multiple of TP_LANES) wide: up to ROWS_UNROLL written out
+ * element by element, wider ones through small row functions.
+ */
+#include <stdlib.h>
+#include <string.h>
+
+#include "codegen.h"
+
+#define ROWS_UNROLL 4
+
+typedef struct lg {
+    const tp_tape *T;
+    tp_sbuf *b;
+    int P;
+    unsigned mask;
+    unsigned char *need; /* in the output's cone */
+    unsigned char *an;   /* the interpreter's anz: row path taken above */
+    unsigned char *rw;   /* the adjoint-tangent row holds data */
+    unsigned char *aw;   /* the adjoint holds data */
+} lg;
+
+/* One term of a row update: coef * (row src). */
+typedef struct term {
+    const char *coef; /* a C expression, evaluated once */
+    char src[40];     /* a row expression */
+} term;
+
+static bool tn(const lg *g, uint32_t s)
+{
+    return (g->T->dep[s] & g->mask) != 0;
+}
+
+static void trm(term *t, const char *coef, char kind, uint32_t slot)
+{
+    t->coef = coef;
+    snprintf(t->src, sizeof t->src, "%c_(%u)", kind, slot);
+}
+
+/* dst (= or +=) sum of terms, dst the row of slot d in T_ or A_: as
+ * 2-wide vectors (the width every x86-64 and AArch64 has in registers;
+ * wider generic vectors without the instructions for them go through
+ * memory), written out for narrow rows, through a row function
+ * (a loop, compiled once) for wide ones. The sum is formed first and then
+ * added, as the interpreter does. */
+static void emit_row(lg *g, char kind, uint32_t d, bool set, int nt,
+                     const term *t)
+{
+    tp_sbuf *b = g->b;
+    int k, j;
+    if (nt == 0)
+        return;
+    tp__sbuf_puts(b, "{\n");
+    for (j = 0; j < nt; j++)
+        tp__sbuf_printf(b, "const double c%d = %s; const double *s%d = %s;\n",
+                        j, t[j].coef, j, t[j].src);
+    tp__sbuf_printf(b, "double *d_ = %c_(%u);\n", kind, d);
+    if (g->P <= ROWS_UNROLL) {
+        for (k = 0; k < g->P; k += 2) {
+            tp__sbuf_printf(b, "tpc_st(d_ + %d, ", k);
+            if (!set)
+                tp__sbuf_printf(b, "tpc_ld(d_ + %d) + (", k);
+            for (j = 0; j < nt; j++)
+                tp__sbuf_printf(b, "%sc%d * tpc_ld(s%d + %d)", j ? " + " : "",
+                                j, j, k);
+            tp__sbuf_puts(b, set ? ");\n" : "));\n");
+        }
+    } else {
+        tp__sbuf_printf(b, "tpr_%d%s(d_", nt, set ? "s" : "a");
+        for (j = 0; j < nt; j++)
+            tp__sbuf_printf(b, ", c%d, s%d", j, j);
+        tp__sbuf_puts(b, ");\n");
+    }
+    tp__sbuf_puts(b, "}\n");
+}
+
+/* The vector type, and the row functions for wide rows: d (= or +=) c0 s0
+ * (+ c1 s1 (+ c2 s2)), plain loops of a fixed length that GCC compiles
+ * vectorized, also for AVX2 where the machine has it (picked at load
+ * time, as the interpreter's kernels are; no FMA either way). */
+static void emit_row_functions(tp_sbuf *b)
+{
+    static const char *const args[3] = {
+        "double c0, const double *restrict s0",
+        "double c0, const double *restrict s0, double c1, "
+        "const double *restrict s1",
+        "double c0, const double *restrict s0, double c1, "
+        "const double *restrict s1, double c2, const double *restrict s2"};
+    static const char *const sum[3] = {
+        "c0 * s0[k]", "c0 * s0[k] + c1 * s1[k]",
+        "c0 * s0[k] + c1 * s1[k] + c2 * s2[k]"};
+    int n, set;
+    tp__sbuf_puts(b,
+                  "#if defined(__GNUC__) && !defined(__clang__) && "
+                  "defined(__x86_64__) && defined(__linux__)\n"
+                  "#define TPC_ROWFN __attribute__((noinline, unused, "
+                  "optimize(\"O3\"), target_clones(\"avx2\", "
+                  "\"default\")))\n"
+                  "#else\n"
+                  "#define TPC_ROWFN __attribute__((noinline, unused))\n"
+                  "#endif\n"
+                  "typedef double tpc_v2 __attribute__((vector_size(16)));\n"
+                  "static inline tpc_v2 tpc_ld(const double *p)\n"
+                  "{\n    tpc_v2 r;\n    memcpy(&r, p, sizeof r);\n"
+                  "    return r;\n}\n"
+                  "static inline void tpc_st(double *p, tpc_v2 r)\n"
+                  "{\n    memcpy(p, &r, sizeof r);\n}\n");
+    for (n = 1; n <= 3; n++)
+        for (set = 0; set < 2; set++)
+            tp__sbuf_printf(b,
+                            "static TPC_ROWFN void tpr_%d%s(double *restrict "
+                            "d, %s)\n"
+                            "{\n    for (int k = 0; k < PW; k++)\n"
+                            "        d[k] %s %s%s%s;\n}\n",
+                            n, set ? "s" : "a", args[n - 1], set ? "=" : "+=",
+                            set ? "" : "(", sum[n - 1], set ? "" : ")");
+}
+
+/* Adjoint contribution: adj[s] (op) expr, with op "+" or "-". */
+static void emit_adj(lg *g, uint32_t s, char op, const char *expr)
+{
+    if (g->aw[s])
+        tp__sbuf_printf(g->b, "adj[%u] %c= %s;\n", s, op, expr);
+    else if (op == '-')
+        tp__sbuf_printf(g->b, "adj[%u] = -(%s);\n", s, expr);
+    else
+        tp__sbuf_printf(g->b, "adj[%u] = %s;\n", s, expr);
+    g->aw[s] = 1;
+}
+
+/* Row update of operand w of op i on the row path: terms (ra first, where
+ * the op's own row holds data), and w's flags afterwards. */
+static void row_to(lg *g, uint32_t w, int nt, const term *t)
+{
+    emit_row(g, 'A', w, !g->rw[w], nt, t);
+    if (nt > 0)
+        g->rw[w] = 1;
+    g->an[w] = 1;
+}
+
+/* ---- forward ----------------------------------------------------------- */
+
+static void emit_forward(lg *g, uint32_t i)
+{
+    const tp_tape *T = g->T;
+    const unsigned op = T->opc[i], fl = T->dep[i];
+    const uint32_t u = T->a0[i], t = T->a1[i];
+    const bool up = fl & TP_DEP_UPASSIVE, tpas = fl & TP_DEP_TPASSIVE;
+    const bool bin = tp__op_kind(op) == TP_KIND_BINARY;
+    term tt[2];
+    int nt = 0;
+    char cu[48], ct[48];
+    if (strcmp(tp__op_fn_name(op), "GEN") == 0)
+        tp__sbuf_printf(g->b, "tpc_value_GEN(v, aux, %uu, %u, %uu, %uu, %uu);\n",
+                        i, op, fl, u, t);
+    else
+        tp__sbuf_printf(g->b, "tp__value_%s(&y, %uu, %u, %uu, %uu, %uu);\n",
+                        tp__op_fn_name(op), i, op, fl, u, t);
+    if (!tn(g, i))
+        return;
+    /* the first partials as expressions */
+    switch (op) {
+    case TP_OP_ADD: strcpy(cu, "1.0"); strcpy(ct, "1.0"); break;
+    case TP_OP_SUB: strcpy(cu, "1.0"); strcpy(ct, "-1.0"); break;
+    case TP_OP_MUL:
+        snprintf(cu, sizeof cu, "v[%u]", t);
+        snprintf(ct, sizeof ct, "v[%u]", u);
+        break;
+    case TP_OP_NEG:
+    case TP_OP_CSUB: strcpy(cu, "-1.0"); break;
+    case TP_OP_ADDC: strcpy(cu, "1.0"); break;
+    case TP_OP_MULC: snprintf(cu, sizeof cu, "K[%u]", t); break;
+    case TP_OP_SQR: snprintf(cu, sizeof cu, "2.0 * v[%u]", u); break;
+    case TP_OP_SIN: snprintf(cu, sizeof cu, "aux[%u]", i); break;
+    case TP_OP_COS: snprintf(cu, sizeof cu, "-aux[%u]", i); break;
+    default:
+        tp__sbuf_printf(g->b, "tpc_partials(v, aux, %uu, %u, %uu, %uu, &d);\n", i,
+                        op, u, t);
+        strcpy(cu, "d.fu");
+        strcpy(ct, "d.ft");
+        break;
+    }
+    if (!up && tn(g, u))
+        trm(&tt[nt++], cu, 'T', u);
+    if (bin && !tpas && tn(g, t))
+        trm(&tt[nt++], ct, 'T', t);
+    /* an op depending on a seeded group has an operand that does */
+    emit_row(g, 'T', i, true, nt, tt);
+}
+
+/* ---- reverse ----------------------------------------------------------- */
+
+/* The scalar adjoint of op i when its row path is not taken (the
+ * interpreter's tp__adj1_*), or the row path's (tp__rev2_*): they differ
+ * only where two operands are one slot. */
+static void emit_adjoint(lg *g, uint32_t i, bool rowpath)
+{
+    const tp_tape *T = g->T;
+    const unsigned op = T->opc[i], fl = T->dep[i];
+    const uint32_t u = T->a0[i], t = T->a1[i];
+    const bool up = fl & TP_DEP_UPASSIVE, tpas = fl & TP_DEP_TPASSIVE;
+    char e[64];
+    switch (op) {
+    case TP_OP_ADD:
+        if (!up)
+            emit_adj(g, u, '+', "a");
+        if (!tpas)
+            emit_adj(g, t, '+', "a");
+        return;
+    case TP_OP_SUB:
+        if (!up)
+            emit_adj(g, u, '+', "a");
+        if (!tpas)
+            emit_adj(g, t, '-', "a");
+        return;
+    case TP_OP_MUL:
+        if (!up) {
+            snprintf(e, sizeof e, "a * v[%u]", t);
+            emit_adj(g, u, '+', e);
+        }
+        if (!tpas) {
+            snprintf(e, sizeof e, "a * v[%u]", u);
+            emit_adj(g, t, '+', e);
+        }
+        return;
+    case TP_OP_NEG:
+    case TP_OP_CSUB: emit_adj(g, u, '-', "a"); return;
+    case TP_OP_ADDC: emit_adj(g, u, '+', "a"); return;
+    case TP_OP_MULC:
+        snprintf(e, sizeof e, "a * K[%u]", t);
+        emit_adj(g, u, '+', e);
+        return;
+    case TP_OP_SQR:
+        snprintf(e, sizeof e, "2.0 * a * v[%u]", u);
+        emit_adj(g, u, '+', e);
+        return;
+    case TP_OP_SIN:
+        snprintf(e, sizeof e, "a * aux[%u]", i);
+        emit_adj(g, u, '+', e);
+        return;
+    case TP_OP_COS:
+        snprintf(e, sizeof e, "a * aux[%u]", i);
+        emit_adj(g, u, '-', e);
+        return;
+    default: break;
+    }
+    /* generic: d holds the partials */
+    if (rowpath && tp__op_kind(op) == TP_KIND_BINARY && !up && !tpas &&
+        u == t) {
+        emit_adj(g, u, '+', "(d.fu + d.ft) * a");
+        return;
+    }
+    if (tp__op_kind(op) != TP_KIND_BINARY || !up)
+        emit_adj(g, u, '+', "d.fu * a");
+    if (tp__op_kind(op) == TP_KIND_BINARY && !tpas)
+        emit_adj(g, t, '+', "d.ft * a");
+}
+
+/* rev2_one: operand w with first partial f and second ff (expressions). */
+static void one_row(lg *g, uint32_t i, uint32_t w, const char *f,
+                    const char *ss, bool second)
+{
+    term t[2];
+    int nt = 0;
+    if (g->rw[i])
+        trm(&t[nt++], f, 'A', i);
+    if (second && tn(g, w))
+        trm(&t[nt++], ss, 'T', w);
+    row_to(g, w, nt, t);
+}
+
+static void emit_rows(lg *g, uint32_t i, bool second)
+{
+    const tp_tape *T = g->T;
+    const unsigned op = T->opc[i], fl = T->dep[i];
+    const uint32_t u = T->a0[i], t = T->a1[i];
+    const bool up = fl & TP_DEP_UPASSIVE, tpas = fl & TP_DEP_TPASSIVE;
+    char fu[48], ft[48], s[64];
+    term tt[3];
+    int nt;
+    switch (op) {
+    case TP_OP_ADD:
+    case TP_OP_SUB:
+        if (!up)
+            one_row(g, i, u, "1.0", "", false);
+        if (!tpas)
+            one_row(g, i, t, op == TP_OP_ADD ? "1.0" : "-1.0", "", false);
+        return;
+    case TP_OP_MUL:
+        snprintf(fu, sizeof fu, "v[%u]", t);
+        snprintf(ft, sizeof ft, "v[%u]", u);
+        if (up || tpas) { /* fuu = 0, the passive one has no tangent */
+            one_row(g, i, up ? t : u, up ? ft : fu, "", false);
+            return;
+        }
+        /* adj_mul2: ru += fu ra + a tt; rt += ft ra + a tu */
+        nt = 0;
+        if (g->rw[i])
+            trm(&tt[nt++], fu, 'A', i);
+        if (second && tn(g, t))
+            trm(&tt[nt++], "a", 'T', t);
+        row_to(g, u, nt, tt);
+        nt = 0;
+        if (g->rw[i])
+            trm(&tt[nt++], ft, 'A', i);
+        if (second && tn(g, u))
+            trm(&tt[nt++], "a", 'T', u);
+        row_to(g, t, nt, tt);
+        return;
+    case TP_OP_NEG:
+    case TP_OP_CSUB: one_row(g, i, u, "-1.0", "", false); return;
+    case TP_OP_ADDC: one_row(g, i, u, "1.0", "", false); return;
+    case TP_OP_MULC:
+        snprintf(fu, sizeof fu, "K[%u]", t);
+        one_row(g, i, u, fu, "", false);
+        return;
+    case TP_OP_SQR:
+        snprintf(fu, sizeof fu, "2.0 * v[%u]", u);
+        one_row(g, i, u, fu, "a * 2.0", second);
+        return;
+    case TP_OP_SIN:
+    case TP_OP_COS:
+        snprintf(fu, sizeof fu, "%saux[%u]", op == TP_OP_COS ? "-" : "", i);
+        snprintf(s, sizeof s, "a * -v[%u]", i);
+        one_row(g, i, u, fu, s, second);
+        return;
+    default: break;
+    }
+    second = second && !tp__op_linear(op);
+    if (tp__op_kind(op) != TP_KIND_BINARY || tpas) {
+        one_row(g, i, u, "d.fu", "a * d.fuu", second);
+    } else if (up) {
+        one_row(g, i, t, "d.ft", "a * d.ftt", second);
+    } else if (u == t) {
+        one_row(g, i, u, "d.fu + d.ft",
+                "a * (d.fuu + 2.0 * d.fut + d.ftt)", second);
+    } else {
+        /* adj_2nd2: ru += fu r + suu x + sut y; rt += ft r + sut x + stt y */
+        nt = 0;
+        if (g->rw[i])
+            trm(&tt[nt++], "d.fu", 'A', i);
+        if (second && tn(g, u))
+            trm(&tt[nt++], "a * d.fuu", 'T', u);
+        if (second && tn(g, t))
+            trm(&tt[nt++], "a * d.fut", 'T', t);
+        row_to(g, u, nt, tt);
+        nt = 0;
+        if (g->rw[i])
+            trm(&tt[nt++], "d.ft", 'A', i);
+        if (second && tn(g, u))
+            trm(&tt[nt++], "a * d.fut", 'T', u);
+        if (second && tn(g, t))
+            trm(&tt[nt++], "a * d.ftt", 'T', t);
+        row_to(g, t, nt, tt);
+    }
+}
+
+static void emit_reverse(lg *g, uint32_t i)
+{
+    const tp_tape *T = g->T;
+    const unsigned op = T->opc[i];
+    const bool second = tn(g, i); /* the adjoint is taken as non-zero */
+    const bool rowpath = g->an[i] || second;
+    const bool gen = !strcmp(tp__op_fn_name(op), "GEN");
+    if (!g->aw[i])
+        return; /* nothing reached it */
+    tp__sbuf_printf(g->b, "{\nconst double a = adj[%u];\n", i);
+    if (gen)
+        tp__sbuf_printf(g->b, "tpc_partials(v, aux, %uu, %u, %uu, %uu, &d);\n",
+                        i, op, T->a0[i], T->a1[i]);
+    emit_adjoint(g, i, rowpath);
+    if (rowpath)
+        emit_rows(g, i, second);
+    tp__sbuf_puts(g->b, "}\n");
+}
+
+/* ---- the function ------------------------------------------------------ */
+
+/* The cone of output slot o: ops whose value it needs (and the partners
+ * whose sine or cosine a paired op reads). */
+static void cone(const tp_tape *T, uint32_t o, unsigned char *need)
+{
+    uint32_t i;
+    need[o] = 1;
+    for (i = o + 1; i-- > T->first_active;) {
+        const unsigned op = T->opc[i];
+        if (!need[i])
+            continue;
+        need[T->a0[i]] = 1;
+        if (tp__op_kind(op) == TP_KIND_BINARY)
+            need[T->a1[i]] = 1;
+        if ((op == TP_OP_SIN || op == TP_OP_COS) && T->a1[i])
+            need[T->a1[i] - 1] = 1;
+    }
+}
+
+/* Chunks: the ops of one phase split into functions of at most CHUNK
+ * ops, as in codegen.c. */
+#define CHUNK 256
+/* Op i of a phase (its forward or its reverse code) into the open chunk,
+ * opening one first if none is. */
+static void chunk_op(lg *g, int *nchunk, int *inchunk, bool reverse,
+                     uint32_t i)
+{
+    if (*inchunk == 0)
+        tp__sbuf_printf(g->b,
+                        "static TPC_CHUNK void lg_%d(LG_ARGS)\n{\nLG_BEGIN\n",
+                        (*nchunk)++);
+    if (reverse)
+        emit_reverse(g, i);
+    else
+        emit_forward(g, i);
+    if (++*inchunk == CHUNK) {
+        tp__sbuf_puts(g->b, "}\n");
+        *inchunk = 0;
+    }
+}
+
+static void chunk_close(lg *g, int *inchunk)
+{
+    if (*inchunk)
+        tp__sbuf_puts(g->b, "}\n");
+    *inchunk = 0;
+}
+
+int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
+                      int P, tp_sbuf *b)
+{
+    const uint32_t o = T->out_slot[out], n = T->n_indep;
+    lg g;
+    uint32_t i;
+    int k, nchunk = 0, inchunk = 0;
+    memset(&g, 0, sizeof g);
+    g.T = T;
+    g.b = b;
+    g.P = P;
+    for (k = first; k < first + count; k++)
+        g.mask |= 1u << T->group[k];
+    /* the seeded block must be whole groups: rows of other independents
+     * of a seeded group would have to be zero rows */
+    for (i = 0; i < n; i++)
+        if ((g.mask >> T->group[i] & 1u) &&
+            ((int)i < first || (int)i >= first + count))
+            return TP_ERR_SIZE;
+    g.need = calloc(T->n_ops, 4);
+    if (!g.need)
+        return TP_ERR_NOMEM;
+    g.an = g.need + T->n_ops;
+    g.rw = g.an + T->n_ops;
+    g.aw = g.rw + T->n_ops;
+    if (o >= T->first_active)
+        cone(T, o, g.need);
+    tp__sbuf_printf(b, "#define PW %d\n", P);
+    emit_row_functions(b);
+    tp__sbuf_puts(b,
+                  "#define T_(s) (tan + (size_t)(s) * PW)\n"
+                  "#define A_(s) (at + (size_t)(s) * PW)\n"
+                  "#define LG_ARGS double *restrict v, double *restrict aux, "
+                  "double *restrict tan, double *restrict at, "
+                  "double *restrict adj\n"
+                  "#define LG_BEGIN tp_kx y; tp_partials d; "
+                  "memset(&y, 0, sizeof y); y.K = K; y.v = v; y.aux = aux; "
+                  "(void)d; (void)tan; (void)at; (void)adj;\n");
+    /* forward over the cone, then reverse from the output */
+    for (i = T->first_active; i <= o && o >= T->first_active; i++)
+        if (g.need[i])
+            chunk_op(&g, &nchunk, &inchunk, false, i);
+    chunk_close(&g, &inchunk);
+    g.aw[o] = 1; /* seeded by the entry function */
+    for (i = o + 1; i-- > T->first_active && o >= T->first_active;)
+        if (g.need[i] && g.aw[i])
+            chunk_op(&g, &nchunk, &inchunk, true, i);
+    chunk_close(&g, &inchunk);
+    tp__sbuf_puts(b, "TPC_EXPORT void tpc_lagrange(LG_ARGS, double *restrict "
+                     "gr, double *restrict H)\n{\n");
+    /* unit seeds */
+    for (k = first; k < first + count; k++) {
+        int c;
+        for (c = 0; c < P; c++)
+            tp__sbuf_printf(b, "T_(%d)[%d] = %s;\n", k, c,
+                            c == k - first ? "1.0" : "0.0");
+    }
+    tp__sbuf_printf(b, "adj[%u] = 1.0;\n", o);
+    for (k = 0; k < nchunk; k++)
+        tp__sbuf_printf(b, "lg_%d(v, aux, tan, at, adj);\n", k);
+    /* results: the independents' adjoints and rows, zero where none came */
+    for (i = 0; i < n; i++) {
+        if (g.aw[i])
+            tp__sbuf_printf(b, "gr[%u] = adj[%u];\n", i, i);
+        else
+            tp__sbuf_printf(b, "gr[%u] = 0.0;\n", i);
+        if (g.rw[i])
+            tp__sbuf_printf(b, "memcpy(H + %u, A_(%u), %d * sizeof(double));\n",
+                            i * (uint32_t)count, i, count);
+        else
+            tp__sbuf_printf(b, "memset(H + %u, 0, %d * sizeof(double));\n",
+                            i * (uint32_t)count, count);
+    }
+    tp__sbuf_printf(b,
+                    "(void)v;\n(void)aux;\n}\n#undef T_\n#undef A_\n"
+                    "TPC_EXPORT const int tpc_lagrange_shape[4] = "
+                    "{%d, %d, %d, %d};\n",
+                    out, first, count, P);
+    free(g.need);
+    return b->failed ? TP_ERR_NOMEM : TP_OK;
+}
