@@ -52,6 +52,7 @@ typedef struct cli {
     const char *sens_arg;  /* --sensitivity NAME[,NAME...] */
     int *sens;             /* their inputs (eom_opts.sens) */
     unsigned extra;        /* --columns: optional CSV columns */
+    int compiled;          /* --compiled: run compiled tapes */
 } cli;
 
 /* Long-only options get codes outside the range of characters. */
@@ -73,7 +74,8 @@ enum {
     OPT_MODES,
     OPT_LINEARIZE,
     OPT_SENSITIVITY,
-    OPT_COLUMNS
+    OPT_COLUMNS,
+    OPT_COMPILED
 };
 
 static const struct option long_options[] = {
@@ -99,6 +101,7 @@ static const struct option long_options[] = {
     {"linearize", no_argument, NULL, OPT_LINEARIZE},
     {"sensitivity", required_argument, NULL, OPT_SENSITIVITY},
     {"columns", required_argument, NULL, OPT_COLUMNS},
+    {"compiled", no_argument, NULL, OPT_COMPILED},
     {"quiet", no_argument, NULL, 'q'},
     {NULL, 0, NULL, 0},
 };
@@ -163,6 +166,17 @@ static void help(void)
         "      --baumgarte A,B   Baumgarte stabilization of the constraints, "
         "A, B >= 0\n"
         "                        in 1/s (default 0,0: off)\n"
+        );
+    printf(
+        "      --compiled        run the model's tapes as machine code: "
+        "emitted as C,\n"
+        "                        built with the C compiler (CC, else cc) "
+        "into a cache\n"
+        "                        (AUTOEOM_CACHE_DIR, else ~/.cache/autoeom) "
+        "and checked\n"
+        "                        against the interpreter; without a "
+        "compiler the run goes\n"
+        "                        on interpreted and says so (docs/cli.md)\n"
         "      --columns LIST    add optional CSV columns: accelerations "
         "(NAME_ddot),\n"
         "                        multipliers (lambdaK), condition (rcond_M, "
@@ -420,6 +434,7 @@ static int parse(int argc, char **argv, cli *c)
         case OPT_PLOTS: c->plots = 1; break;
         case OPT_MODES: c->modes = 1; break;
         case OPT_LINEARIZE: c->linearize = 1; break;
+        case OPT_COMPILED: c->compiled = 1; break;
         case OPT_SENSITIVITY:
             if (!optarg[0])
                 return cli_usage_error("--sensitivity: no name");
@@ -548,6 +563,20 @@ static int run(cli *c, const demo *d)
                 "model with constraints are not available "
                 "(docs/integrators.md, \"Sensitivities\")\n", d->name);
         goto done;
+    }
+    if (c->compiled) {
+        eom_compiled_info ci;
+        if (eom_system_set_compiled(s, 1, &ci) == EOM_OK) {
+            if (!c->quiet)
+                fprintf(stderr,
+                        "eom-run: %s: compiled tapes in use (%d of %d from "
+                        "the cache, %.2f s)\n",
+                        d->name, ci.cached, ci.tapes, ci.seconds);
+        } else {
+            /* a warning: the run goes on, interpreted */
+            fprintf(stderr, "eom-run: %s: warning: %s\n", d->name,
+                    eom_system_errmsg(s));
+        }
     }
     if (c->baumgarte && eom_set_baumgarte(s, c->alpha, c->beta) != EOM_OK) {
         fprintf(stderr, "eom-run: %s\n", eom_system_errmsg(s));

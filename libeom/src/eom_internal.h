@@ -132,8 +132,10 @@ typedef struct eom_tape {
 
 /* How many systems share one set of tapes: the last one frees them.
  * Clones may be freed by different threads, hence atomic. */
+#define EOM_N_TAPES 6 /* L, E, R, Q, phi, residual: eom__tapes */
 typedef struct eom_shared {
     atomic_int refs;
+    tp_compiled *cc[EOM_N_TAPES]; /* compiled tapes, or NULL */
 } eom_shared;
 
 struct eom_system {
@@ -149,6 +151,7 @@ struct eom_system {
     eom_tape tRes;
     double *jz, *jres, *jB, *jy;
     eom_shared *shared;                  /* the tapes' owners */
+    bool compiled;   /* the workspaces run the shared compiled tapes */
     double alpha, beta;                  /* Baumgarte */
     char msg[EOM_MSG_LEN];
 
@@ -295,6 +298,10 @@ int eom__S_solve(eom_system *s, double *b);
  * what names the matrix in a failure message. */
 int eom__svd(eom_system *s, int rows, int cols, double *A, double *sv,
              double *U, double *VT, const char *what);
+
+/* The system's tapes in a fixed order: L, E, R, Q, phi, residual (the
+ * order of eom_shared.cc). */
+void eom__tapes(eom_system *s, eom_tape *t[EOM_N_TAPES]);
 
 /* Status with a message in s (first argument printf-style). */
 int eom__fail(eom_system *s, int status, const char *fmt, ...)

@@ -400,6 +400,11 @@ void eom_system_free(eom_system **sp)
     tape_free(&s->tQ, last);
     tape_free(&s->tphi, last);
     tape_free(&s->tRes, last);
+    if (last && s->shared) {
+        int k;
+        for (k = 0; k < EOM_N_TAPES; k++)
+            tp_compiled_free(&s->shared->cc[k]);
+    }
     if (last)
         free(s->shared);
     free_named(s->coords, s->n);
@@ -594,6 +599,7 @@ int eom_system_new(eom_system **out, const eom_model *m, char *errmsg,
         return EOM_ERR_NOMEM;
     }
     atomic_init(&s->shared->refs, 1);
+    memset(s->shared->cc, 0, sizeof s->shared->cc);
     s->coords = copy_named(m->coords, s->n);
     s->params = copy_named(m->params, s->np);
     s->probes = copy_named(m->probes, s->nprobe);
@@ -726,6 +732,11 @@ int eom_system_clone(eom_system **out, const eom_system *s, char *errmsg,
     memcpy(c->tRes.pmap, s->tRes.pmap, (size_t)c->np * sizeof(int));
     if (c->m > 0 && (rc = setup_klu(c)) != EOM_OK)
         goto fail;
+    if (s->compiled &&
+        (rc = eom_system_set_compiled(c, 1, NULL)) != EOM_OK) {
+        rc = eom__fail(c, EOM_ERR_NOMEM, "out of memory");
+        goto fail;
+    }
     c->msg[0] = '\0';
     *out = c;
     return EOM_OK;
@@ -812,9 +823,19 @@ int eom_param_index(const eom_system *s, const char *name)
     return s ? index_of(s->params, s->np, name) : -1;
 }
 
+void eom__tapes(eom_system *s, eom_tape *t[EOM_N_TAPES])
+{
+    t[0] = &s->tL;
+    t[1] = &s->tE;
+    t[2] = &s->tR;
+    t[3] = &s->tQ;
+    t[4] = &s->tphi;
+    t[5] = &s->tRes;
+}
+
 int eom_set_param(eom_system *s, int k, double value)
 {
-    eom_tape *tapes[6];
+    eom_tape *tapes[EOM_N_TAPES];
     int i;
     if (!s)
         return EOM_ERR_NULL;
@@ -826,13 +847,8 @@ int eom_set_param(eom_system *s, int k, double value)
         return eom__fail(s, EOM_ERR_NONFINITE,
                          "parameter '%s' set to a non-finite value",
                          s->params[k].name);
-    tapes[0] = &s->tL;
-    tapes[1] = &s->tE;
-    tapes[2] = &s->tR;
-    tapes[3] = &s->tQ;
-    tapes[4] = &s->tphi;
-    tapes[5] = &s->tRes;
-    for (i = 0; i < 6; i++)
+    eom__tapes(s, tapes);
+    for (i = 0; i < EOM_N_TAPES; i++)
         if (tapes[i]->ws && tapes[i]->pmap[k] >= 0)
             tp_ws_set_param(tapes[i]->ws, tapes[i]->pmap[k], value);
     s->pval[k] = value;

@@ -67,7 +67,10 @@ extern "C" {
     X(EOM_ERR_LINALG, -12, "a linear-algebra routine failed")                  \
     X(EOM_ERR_NOT_CONVERGED, -13, "an iteration did not converge")            \
     X(EOM_ERR_FILE, -14, "a model file cannot be read or is not valid (the "   \
-                         "message gives file:line:col)")
+                         "message gives file:line:col)")                       \
+    X(EOM_WARN_INTERPRETED, 1, "compiled tapes are not in use: the "           \
+                               "interpreter runs the model (the message says " \
+                               "why)")
 
 typedef enum eom_status {
 #define EOM_STATUS_ENUM_(name, value, text) name = value,
@@ -209,6 +212,33 @@ EOM_API int eom_system_clone(eom_system **out, const eom_system *s,
                              char *errmsg, size_t errmsg_len);
 /* Message about the last error of a call on s ("" after a success). */
 EOM_API const char *eom_system_errmsg(const eom_system *s);
+
+/* Compiled tapes (docs/libeom.md, "Compiled tapes"). With on = 1 every
+ * tape of s is emitted as C, built by the system's C compiler (CC, else
+ * cc; flags -O1) into a per-user cache ($AUTOEOM_CACHE_DIR, else
+ * $XDG_CACHE_HOME/autoeom, else ~/.cache/autoeom), loaded, and checked
+ * against the interpreter at the model's initial state; from then on
+ * every evaluation of s (right-hand sides, energies, probes, Jacobians)
+ * runs the compiled code, with the interpreter's results. A second call,
+ * or another process, finds the objects in the cache. When anything
+ * fails (no compiler, a compiler error, a failed check) s stays on the
+ * interpreter and the call returns EOM_WARN_INTERPRETED with the reason
+ * in eom_system_errmsg: a warning, s remains fully usable. on = 0 returns
+ * s to the interpreter. Clones made afterwards inherit the setting; call
+ * it while no system sharing s's tapes is in use by another thread.
+ * info (may be NULL) receives what it took. */
+typedef struct eom_compiled_info {
+    int tapes;      /* tapes of the system */
+    int cached;     /* of them found in the cache or already compiled */
+    int rebuilt;    /* cache entries that failed their checks and were
+                       built again */
+    double seconds; /* generating, compiling, loading and checking */
+    size_t source_bytes; /* generated C source of the tapes compiled now */
+} eom_compiled_info;
+EOM_API int eom_system_set_compiled(eom_system *s, int on,
+                                    eom_compiled_info *info);
+/* 1 if s runs compiled tapes, else 0. */
+EOM_API int eom_system_compiled(const eom_system *s);
 
 EOM_API int eom_system_ncoords(const eom_system *s);
 EOM_API int eom_system_nconstraints(const eom_system *s);

@@ -1,0 +1,118 @@
+/* compiled.c - a system's tapes as machine code (libtape's compiled
+ * tapes): eom_system_set_compiled compiles the tapes the system has (or
+ * finds them in the cache), checks each at the model's initial state and
+ * points the system's workspaces at them. The compiled tapes belong to
+ * the set of tapes a system shares with its clones; clones made later
+ * inherit them. Any failure leaves the system on the interpreter, with
+ * the reason in its message: a run never fails for it. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "eom_internal.h"
+
+/* Where a tape is checked against the interpreter: the initial state in
+ * the leading coordinates and rates, zero accelerations, multipliers and
+ * time, and (residual tape) the parameter values in use. */
+static void check_point(const eom_system *s, const eom_tape *et, int k,
+                        double *x)
+{
+    const int ni = tp_tape_n_indep(et->tape), n = s->n;
+    int i;
+    for (i = 0; i < ni; i++) {
+        const eom_named *c = &s->coords[i % n];
+        x[i] = i < n ? c->v0 : i < 2 * n && k != 4 ? c->v1 : 0.0;
+    }
+    if (k == 5)
+        for (i = 0; i < s->np; i++)
+            x[ni - s->np + i] = s->pval[i];
+}
+
+/* Point s's workspaces at the shared compiled tapes (on) or back to the
+ * interpreter; 0, or -1 (all back on the interpreter) if a workspace
+ * refuses (out of memory for its scratch). */
+static int attach(eom_system *s, bool on)
+{
+    eom_tape *t[EOM_N_TAPES];
+    int k;
+    eom__tapes(s, t);
+    for (k = 0; k < EOM_N_TAPES; k++)
+        if (t[k]->ws && (!on || s->shared->cc[k]) &&
+            tp_ws_set_compiled(t[k]->ws, on ? s->shared->cc[k] : NULL) !=
+                TP_OK) {
+            eom__fail(s, EOM_WARN_INTERPRETED,
+                      "compiled tapes are not in use, the interpreter runs "
+                      "the model: %s",
+                      tp_ws_errmsg(t[k]->ws));
+            attach(s, false);
+            return -1;
+        }
+    s->compiled = on;
+    return 0;
+}
+
+int eom_system_set_compiled(eom_system *s, int on,
+                            eom_compiled_info *info)
+{
+    eom_tape *t[EOM_N_TAPES];
+    eom_compiled_info local;
+    double *x = NULL;
+    int k, ni_max = 1;
+    if (!info)
+        info = &local;
+    memset(info, 0, sizeof *info);
+    if (!s)
+        return EOM_ERR_NULL;
+    s->msg[0] = '\0';
+    if (!on) {
+        attach(s, false);
+        return EOM_OK;
+    }
+    eom__tapes(s, t);
+    for (k = 0; k < EOM_N_TAPES; k++)
+        if (t[k]->tape && tp_tape_n_indep(t[k]->tape) > ni_max)
+            ni_max = tp_tape_n_indep(t[k]->tape);
+    if (!(x = malloc((size_t)ni_max * sizeof(double))))
+        return eom__fail(s, EOM_ERR_NOMEM, "out of memory");
+    for (k = 0; k < EOM_N_TAPES; k++) {
+        tp_compile_info ci;
+        tp_compile_opts o;
+        int st;
+        /* the residual tape serves Jacobians, whose sweeps (directions
+         * over every op) stay on the interpreter: nothing to gain */
+        if (!t[k]->tape || k == 5)
+            continue;
+        info->tapes++;
+        if (s->shared->cc[k]) {
+            info->cached++;
+            continue;
+        }
+        memset(&o, 0, sizeof o);
+        check_point(s, t[k], k, x);
+        o.x = x;
+        o.max_dirs = t[k]->dirs;
+        /* the L tape's Lagrange block: its output 0 is L, its rates a
+         * group of their own, its workspace n directions wide */
+        o.lagrange = k == 0 && t[k]->dirs >= s->n;
+        st = tp_compile(t[k]->tape, &o, &s->shared->cc[k], &ci);
+        info->seconds += ci.t_emit + ci.t_compile + ci.t_load + ci.t_check;
+        info->source_bytes += ci.source_bytes;
+        info->cached += ci.cached;
+        info->rebuilt += ci.rebuilt;
+        if (st != TP_OK) {
+            free(x);
+            attach(s, false);
+            eom__fail(s, EOM_WARN_INTERPRETED,
+                      "compiled tapes are not in use, the interpreter runs "
+                      "the model: %s",
+                      ci.msg);
+            return EOM_WARN_INTERPRETED;
+        }
+    }
+    free(x);
+    return attach(s, true) == 0 ? EOM_OK : EOM_WARN_INTERPRETED;
+}
+
+int eom_system_compiled(const eom_system *s)
+{
+    return s && s->compiled;
+}
