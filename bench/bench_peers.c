@@ -34,6 +34,8 @@
  * C compiler's work on its output.
  *
  * usage: bench-peers [--quick] [--reps R] */
+#define _POSIX_C_SOURCE 200809L
+
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -60,6 +62,7 @@ typedef struct ctx {
     double *x, *xd, *m, *L, g;
     double *M, *f, *qdd; /* a peer's M, f and accelerations */
     eom_system *s;
+    eom_system *cs;      /* the same model on compiled tapes, or NULL */
 #ifdef HAVE_MUJOCO
     mujoco_chain *mj;
 #endif
@@ -80,12 +83,22 @@ typedef struct row {
     double mj_bwd;         /* eom_rhs's backward error in MuJoCo's */
     double us[NPEERS];     /* median time (NAN: not timed) */
     double ratio[NPEERS];  /* median of eom_rhs / peer per round */
+    double crhs_us;        /* compiled eom_rhs (NAN: none) */
+    double cratio[NPEERS]; /* median of compiled eom_rhs / peer */
+    double cdiff;          /* compiled qdd against interpreted, relative */
+    double compile_s;      /* eom_system_set_compiled, cold cache */
 } row;
 
 static void run_tape(void *p)
 {
     ctx *c = p;
     eom_rhs(c->s, 0.0, c->x, c->xd);
+}
+
+static void run_ctape(void *p)
+{
+    ctx *c = p;
+    eom_rhs(c->cs, 0.0, c->x, c->xd);
 }
 
 #ifdef HAVE_MUJOCO
@@ -237,34 +250,78 @@ static int compare(ctx *c, row *r)
  * of at least min_batch seconds. */
 static void time_routes(ctx *c, int reps, double min_batch, row *r)
 {
-    double tape[NPEERS * MAX_REPS], t0, t1, rt[MAX_REPS], tp[MAX_REPS];
-    long b0 = bench_calibrate(run_tape, c, min_batch), b1;
+    double tape[NPEERS * MAX_REPS], ctape[NPEERS * MAX_REPS], t0, t1, t2;
+    double rt[MAX_REPS], ct[MAX_REPS], tp[MAX_REPS];
+    long b0 = bench_calibrate(run_tape, c, min_batch), b1, b2;
     int k, i, ntape = 0;
+    b2 = c->cs ? bench_calibrate(run_ctape, c, min_batch) : 0;
     for (k = 0; k < NPEERS; k++) {
         void (*run)(void *) = peer_run(c, k);
-        r->us[k] = r->ratio[k] = NAN;
+        r->us[k] = r->ratio[k] = r->cratio[k] = NAN;
         if (!run || !(r->bwd[k] <= GATE))
             continue;
         b1 = bench_calibrate(run, c, min_batch);
         for (i = 0; i < reps; i++) {
+            /* the three routes in a rotating order */
+            t2 = NAN;
             if (i % 2) {
                 t1 = bench_time(run, c, b1);
+                if (c->cs)
+                    t2 = bench_time(run_ctape, c, b2);
                 t0 = bench_time(run_tape, c, b0);
             } else {
                 t0 = bench_time(run_tape, c, b0);
+                if (c->cs)
+                    t2 = bench_time(run_ctape, c, b2);
                 t1 = bench_time(run, c, b1);
             }
-            tape[ntape++] = t0;
+            tape[ntape] = t0;
+            ctape[ntape++] = t2;
             tp[i] = t1;
             rt[i] = t0 / t1;
+            ct[i] = t2 / t1;
         }
         r->us[k] = 1e6 * bench_median(tp, reps);
         r->ratio[k] = bench_median(rt, reps);
+        r->cratio[k] = c->cs ? bench_median(ct, reps) : NAN;
     }
     if (!ntape) /* no peer to alternate with: eom_rhs alone */
-        for (i = 0; i < reps; i++)
-            tape[ntape++] = bench_time(run_tape, c, b0);
+        for (i = 0; i < reps; i++) {
+            tape[ntape] = bench_time(run_tape, c, b0);
+            ctape[ntape++] = c->cs ? bench_time(run_ctape, c, b2) : NAN;
+        }
     r->rhs_us = 1e6 * bench_median(tape, ntape);
+    r->crhs_us = c->cs ? 1e6 * bench_median(ctape, ntape) : NAN;
+}
+
+/* The same chain on compiled tapes (c->cs), its set-up time and its
+ * difference from the interpreter's accelerations. */
+static void compile_route(ctx *c, const eom_model *md, row *r)
+{
+    double *xd = malloc(2 * (size_t)c->N * sizeof(double)), t;
+    char err[256];
+    int i;
+    r->crhs_us = NAN;
+    r->cdiff = NAN;
+    if (!xd || eom_system_new(&c->cs, md, err, sizeof err) != EOM_OK) {
+        free(xd);
+        return;
+    }
+    t = bench_now();
+    if (eom_system_set_compiled(c->cs, 1, NULL) != EOM_OK) {
+        printf("compiled tapes: not in use for N = %d: %s\n", c->N,
+               eom_system_errmsg(c->cs));
+        eom_system_free(&c->cs);
+        free(xd);
+        return;
+    }
+    r->compile_s = bench_now() - t;
+    eom_rhs(c->s, 0.0, c->x, c->xd);
+    eom_rhs(c->cs, 0.0, c->x, xd);
+    r->cdiff = 0.0;
+    for (i = c->N; i < 2 * c->N; i++)
+        r->cdiff = fmax(r->cdiff, fabs(xd[i] - c->xd[i]) / fabs(c->xd[i]));
+    free(xd);
 }
 
 /* Build every route for N links, compare and time them into r; 0, or 1
@@ -311,6 +368,7 @@ static int measure(int N, int reps, double min_batch, row *r)
         exit(1);
     }
     r->record_ms = 1e3 * (bench_now() - t);
+    compile_route(&c, md, r);
     eom_model_free(&md);
 #ifdef HAVE_MUJOCO
     c.mj = mujoco_chain_new(N, c.m, c.L, c.g, err, (int)sizeof err);
@@ -337,6 +395,7 @@ static int measure(int N, int reps, double min_batch, row *r)
     mujoco_chain_free(c.mj);
 #endif
     eom_system_free(&c.s);
+    eom_system_free(&c.cs);
     free(c.x);
     free(c.xd);
     free(c.m);
@@ -350,25 +409,34 @@ static int measure(int N, int reps, double min_batch, row *r)
 static void print_times(const int *Ns, const row *r, int n)
 {
     int i, k;
-    printf("| N | eom_rhs (us)");
+    printf("| N | eom_rhs (us) | compiled (us)");
     for (k = 0; k < NPEERS; k++)
-        printf(" | %s (us) | eom_rhs / %s", peer_name[k], peer_name[k]);
-    printf(" |\n|---|---|");
+        printf(" | %s (us) | eom_rhs / %s | compiled / %s", peer_name[k],
+               peer_name[k], peer_name[k]);
+    printf(" |\n|---|---|---|");
     for (k = 0; k < NPEERS; k++)
-        printf("---|---|");
+        printf("---|---|---|");
     printf("\n");
     for (i = 0; i < n; i++) {
-        printf("| %d | %.3g |", Ns[i], r[i].rhs_us);
+        printf("| %d | %.3g | %.3g |", Ns[i], r[i].rhs_us, r[i].crhs_us);
         for (k = 0; k < NPEERS; k++) {
             if (!r[i].have[k])
-                printf(" - | - |");
+                printf(" - | - | - |");
             else if (!(r[i].bwd[k] <= GATE))
-                printf(" disagrees | - |");
+                printf(" disagrees | - | - |");
             else
-                printf(" %.3g | %.2f |", r[i].us[k], r[i].ratio[k]);
+                printf(" %.3g | %.2f | %.2f |", r[i].us[k], r[i].ratio[k],
+                       r[i].cratio[k]);
         }
         printf("\n");
     }
+    printf("\nCompiled tapes (eom_system_set_compiled, cold cache; the "
+           "accelerations' largest relative difference from the "
+           "interpreter's):\n\n| N | compile (s) | difference |\n"
+           "|---|---|---|\n");
+    for (i = 0; i < n; i++)
+        printf("| %d | %.3g | %.1e |\n", Ns[i], r[i].compile_s,
+               r[i].cdiff);
 }
 
 static void print_agreement(const int *Ns, const row *r, int n)
@@ -433,6 +501,7 @@ static void print_build(const int *Ns, const row *r, int n)
 int main(int argc, char **argv)
 {
     static const int Ns[] = {2, 5, 10, 20, 50};
+    char dir[] = "/tmp/bench-peers-XXXXXX", cmd[128];
     const int n = (int)(sizeof Ns / sizeof Ns[0]);
     row r[sizeof Ns / sizeof Ns[0]];
     int reps = 15, quick = 0, i, bad = 0;
@@ -463,8 +532,14 @@ int main(int argc, char **argv)
     printf("sympy: skipped (python3 cannot import sympy.physics.mechanics; "
            "meson setup -Dsympy=enabled to require it)\n");
 #endif
+    /* compiled tapes in a cache of this run's own: compiled cold */
+    if (mkdtemp(dir))
+        setenv("AUTOEOM_CACHE_DIR", dir, 1);
     for (i = 0; i < n; i++)
         bad |= measure(Ns[i], reps, quick ? 0.002 : 0.05, &r[i]);
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    if (system(cmd) != 0)
+        fprintf(stderr, "bench-peers: could not remove %s\n", dir);
     printf("\nOne right-hand side, medians of %d alternating rounds:\n\n",
            reps);
     print_times(Ns, r, n);

@@ -1,0 +1,223 @@
+/* bench_compiled.c - compiled tapes (eom_system_set_compiled) against the
+ * interpreter and the hand-coded equations, on the chains of the element
+ * library (the same chains as bench-rhs: unequal links, gravity, open):
+ *
+ *   - set-up: recording (eom_system_new), then compiling every tape into a
+ *     fresh cache (emit + compile + load + check, cold), and again from
+ *     the cache (warm), with the generated source's size;
+ *   - one right-hand side: interpreted, compiled and, for rigid chains,
+ *     hand-coded (chain_plain.c, the limit of a Lagrangian route), timed
+ *     interleaved; medians of the per-repetition ratios; the largest
+ *     relative difference of the compiled qdd from the interpreted one.
+ *
+ * The cache is a temporary directory of this run; CC and AUTOEOM_CFLAGS
+ * choose the compiler and flags as for any user (default cc -O1).
+ *
+ * usage: bench-compiled [--quick] [--reps R] */
+#define _POSIX_C_SOURCE 200809L
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bench_util.h"
+#include "chain_plain.h"
+#include "eom/chain.h"
+
+static const double pi = 3.14159265358979323846;
+
+typedef struct ctx {
+    eom_system *s;
+    double *x, *xd;
+    chain_hand *hand;
+    double *qdd;
+} ctx;
+
+static void call_rhs(void *p)
+{
+    ctx *c = p;
+    eom_rhs(c->s, 0.0, c->x, c->xd);
+}
+
+static void call_hand(void *p)
+{
+    ctx *c = p;
+    chain_plain_hand_rhs(c->hand, c->x, c->qdd);
+}
+
+static double link_m(int j) { return 1.0 + 0.1 * (j % 7); }
+static double link_L(int j) { return 10.0 - 0.3 * (j % 5); }
+
+static eom_system *make(int links, int modes, double *mv, double *Lv,
+                        double *EIv)
+{
+    eom_chain_spec sp;
+    eom_model *m = NULL;
+    eom_system *s = NULL;
+    char msg[256];
+    int j;
+    for (j = 0; j < links; j++) {
+        mv[j] = link_m(j);
+        Lv[j] = link_L(j);
+        EIv[j] = 4e4;
+    }
+    memset(&sp, 0, sizeof sp);
+    sp.links = links;
+    sp.modes_all = modes;
+    sp.m_link = mv;
+    sp.L_link = Lv;
+    sp.EI_link = EIv;
+    sp.g = 9.81;
+    if (eom_model_new(&m) != EOM_OK || eom_chain_add(m, &sp) < 0 ||
+        eom_system_new(&s, m, msg, sizeof msg) != EOM_OK)
+        fprintf(stderr, "bench-compiled: set-up failed: %s\n", msg);
+    eom_model_free(&m);
+    return s;
+}
+
+static void state(int links, int n, double *x)
+{
+    int j;
+    for (j = 0; j < links; j++) {
+        x[j] = -pi / 2 + (j % 2 ? -0.4 : 0.3) + 0.01 * j;
+        x[n + j] = 0.2 * sin(1.0 + j);
+    }
+    for (j = links; j < n; j++) {
+        x[j] = 1e-3 * cos(j);
+        x[n + j] = 1e-2 * sin(2.0 * j);
+    }
+}
+
+static void row(int links, int modes, int reps)
+{
+    double mv[64], Lv[64], EIv[64], t0, t_rec, t_cold, t_warm;
+    double rc[64], rh[64], ti[64], tc[64], th[64], diff = 0.0;
+    eom_compiled_info cold, warm;
+    eom_system *s, *s2;
+    ctx ci, cc, ch;
+    chain_plain cp;
+    int n, k, i, st;
+    char label[48], hand[32];
+    double *xdi;
+
+    t0 = bench_now();
+    s = make(links, modes, mv, Lv, EIv);
+    t_rec = bench_now() - t0;
+    if (!s)
+        return;
+    n = eom_system_ncoords(s);
+    t0 = bench_now();
+    st = eom_system_set_compiled(s, 1, &cold);
+    t_cold = bench_now() - t0;
+    if (st != EOM_OK) {
+        printf("| %d x %d | compiled tapes unavailable: %s |\n", links, modes,
+               eom_system_errmsg(s));
+        eom_system_free(&s);
+        return;
+    }
+    /* a second system: its tapes are found in the cache */
+    s2 = make(links, modes, mv, Lv, EIv);
+    t0 = bench_now();
+    eom_system_set_compiled(s2, 1, &warm);
+    t_warm = bench_now() - t0;
+
+    memset(&ci, 0, sizeof ci);
+    ci.x = calloc(4 * (size_t)n + (size_t)n, sizeof(double));
+    ci.xd = ci.x + 2 * n;
+    state(links, n, ci.x);
+    ci.s = s2;
+    eom_system_set_compiled(s2, 0, NULL); /* s2: the interpreter */
+    cc = ci;
+    cc.s = s;
+    xdi = malloc(2 * (size_t)n * sizeof(double));
+    eom_rhs(s2, 0.0, ci.x, xdi);
+    eom_rhs(s, 0.0, ci.x, ci.xd);
+    for (i = 0; i < n; i++)
+        diff = fmax(diff, fabs(ci.xd[n + i] - xdi[n + i]) /
+                              fmax(1.0, fabs(xdi[n + i])));
+    ch = ci;
+    ch.hand = NULL;
+    ch.qdd = ci.x + 4 * n;
+    if (modes == 0) {
+        cp.links = links;
+        cp.modes = 0;
+        cp.m = mv;
+        cp.L = Lv;
+        cp.EI = EIv;
+        cp.g = 9.81;
+        if (chain_plain_hand_new(&ch.hand, &cp) != 0)
+            ch.hand = NULL;
+    }
+    {
+        const long bi = bench_calibrate(call_rhs, &ci, 0.01);
+        const long bh = ch.hand ? bench_calibrate(call_hand, &ch, 0.01) : 0;
+        for (k = 0; k < reps; k++) {
+            ti[k] = bench_time(call_rhs, &ci, bi);
+            tc[k] = bench_time(call_rhs, &cc, bi);
+            th[k] = ch.hand ? bench_time(call_hand, &ch, bh) : NAN;
+            rc[k] = ti[k] / tc[k];
+            rh[k] = tc[k] / th[k];
+        }
+    }
+    snprintf(label, sizeof label, modes ? "%d links x %d modes" : "%d rigid links",
+             links, modes);
+    printf("| %s | %d | %.3g | %.3g | %.3g | %zu | %.3g | %.3g | %.2f | %s | "
+           "%.1e |\n",
+           label, n, 1e3 * t_rec, t_cold, 1e3 * t_warm, cold.source_bytes,
+           1e6 * bench_median(ti, reps), 1e6 * bench_median(tc, reps),
+           bench_median(rc, reps),
+           ch.hand ? (snprintf(hand, sizeof hand, "%.2f",
+                               bench_median(rh, reps)),
+                      hand)
+                   : "-",
+           diff);
+    (void)warm;
+    chain_plain_hand_free(&ch.hand);
+    free(ci.x);
+    free(xdi);
+    eom_system_free(&s);
+    eom_system_free(&s2);
+}
+
+int main(int argc, char **argv)
+{
+    static const int rigid[] = {2, 5, 10, 20, 50};
+    static const int flex[][2] = {{3, 2}, {10, 2}, {20, 3}, {50, 3}};
+    char dir[] = "/tmp/bench-compiled-XXXXXX", cmd[128];
+    int quick = 0, reps = 15, k;
+    for (k = 1; k < argc; k++) {
+        if (!strcmp(argv[k], "--quick"))
+            quick = 1;
+        else if (!strcmp(argv[k], "--reps") && k + 1 < argc)
+            reps = atoi(argv[++k]);
+        else {
+            fprintf(stderr, "usage: bench-compiled [--quick] [--reps R]\n");
+            return 2;
+        }
+    }
+    if (quick)
+        reps = 3;
+    if (reps < 1 || reps > 64)
+        reps = 15;
+    if (!mkdtemp(dir)) {
+        perror("bench-compiled: mkdtemp");
+        return 1;
+    }
+    setenv("AUTOEOM_CACHE_DIR", dir, 1);
+    printf("compiler: %s, flags: %s\n\n",
+           getenv("CC") ? getenv("CC") : "cc",
+           getenv("AUTOEOM_CFLAGS") ? getenv("AUTOEOM_CFLAGS") : "-O1");
+    printf("| chain | n | record (ms) | compile, cold (s) | from cache (ms) | "
+           "source (bytes) | interpreted (us) | compiled (us) | "
+           "interpreted / compiled | compiled / hand-coded | difference |\n"
+           "|---|---|---|---|---|---|---|---|---|---|---|\n");
+    for (k = 0; k < (quick ? 2 : 5); k++)
+        row(rigid[k], 0, reps);
+    for (k = 0; k < (quick ? 1 : 4); k++)
+        row(flex[k][0], flex[k][1], reps);
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    if (system(cmd) != 0)
+        fprintf(stderr, "bench-compiled: could not remove %s\n", dir);
+    return 0;
+}
