@@ -566,6 +566,10 @@ static int run(cli *c, const demo *d)
     }
     if (c->compiled) {
         eom_compiled_info ci;
+        /* a first run may wait for the compiler: say why */
+        if (!c->quiet)
+            fprintf(stderr, "eom-run: %s: compiling the tapes, or loading "
+                    "them from the cache\n", d->name);
         if (eom_system_set_compiled(s, 1, &ci) == EOM_OK) {
             if (!c->quiet)
                 fprintf(stderr,

@@ -3,7 +3,8 @@
  * the file's settings, --set of a setting that reshapes the model, a
  * file with an error (file:line:col on stderr, exit status 1, no CSV),
  * --modes of the double pendulum against its closed-form frequencies,
- * and --plots without --out in a scratch directory.
+ * --plots without --out in a scratch directory, and --compiled (the
+ * interpreter's CSV byte for byte, the cache, no compiler).
  *
  * usage: test_cli_models EOM_RUN MODELS_DIR CASE */
 #define _XOPEN_SOURCE 700 /* realpath */
@@ -564,10 +565,61 @@ static void case_tolerance(void)
     result_free(&r);
 }
 
+/* --compiled: the interpreter's CSV, byte for byte; the second run loads
+ * from the cache; without a compiler a warning and the same CSV. */
+static void case_compiled(void)
+{
+    char cache[512], cache2[512], a[512], b[512], c[512];
+    const char *comp[] = {"double-pendulum", "--compiled", "--t-end", "1",
+                          "--integrator", "erk", "-o", a, NULL};
+    const char *interp[] = {"double-pendulum", "--t-end", "1",
+                            "--integrator", "erk", "-o", b, NULL};
+    const char *nocc[] = {"double-pendulum", "--compiled", "--t-end", "1",
+                          "--integrator", "erk", "-o", c, NULL};
+    char *fa, *fb, *fc;
+    result r;
+    scratch(cache, sizeof cache, "cache");
+    scratch(cache2, sizeof cache2, "cache2");
+    scratch(a, sizeof a, "compiled.csv");
+    scratch(b, sizeof b, "interpreted.csv");
+    scratch(c, sizeof c, "nocc.csv");
+    setenv("AUTOEOM_CACHE_DIR", cache, 1);
+    run(&r, comp);
+    CHECK_INT(r.status, 0);
+    CHECK_HAS(r.err, "compiled tapes in use (0 of ");
+    result_free(&r);
+    run(&r, interp);
+    CHECK_INT(r.status, 0);
+    result_free(&r);
+    run(&r, comp);
+    CHECK_INT(r.status, 0);
+    CHECK_HAS(r.err, "compiled tapes in use (2 of 2 from the cache");
+    result_free(&r);
+    /* no compiler, an empty cache: the run goes on interpreted */
+    setenv("AUTOEOM_CACHE_DIR", cache2, 1);
+    setenv("CC", "/nonexistent/bin/cc", 1);
+    run(&r, nocc);
+    CHECK_INT(r.status, 0);
+    CHECK_HAS(r.err, "warning: compiled tapes are not in use");
+    CHECK_HAS(r.err, "/nonexistent/bin/cc");
+    result_free(&r);
+    unsetenv("CC");
+    fa = read_file(a, NULL);
+    fb = read_file(b, NULL);
+    fc = read_file(c, NULL);
+    CHECK(fa && fb && fc && strlen(fa) > 1000);
+    CHECK(fa && fb && strcmp(fa, fb) == 0);
+    CHECK(fc && fb && strcmp(fc, fb) == 0);
+    free(fa);
+    free(fb);
+    free(fc);
+}
+
 static const struct {
     const char *name;
     void (*fn)(void);
 } cases[] = {
+    {"model_compiled", case_compiled},
     {"model_columns", case_columns},
     {"model_linearize", case_linearize},
     {"model_sensitivity", case_sensitivity},
