@@ -55,11 +55,13 @@ typedef struct cli {
     double t_end, sample;
     eom_opts opts;
     int threads, resume, quiet, help;
+    int compiled; /* --compiled: every run on compiled tapes */
 } cli;
 
 enum { OPT_RUNS = 256, OPT_SWEEP, OPT_THREADS, OPT_TRAJ, OPT_RESUME,
        OPT_INTEGRATOR, OPT_DT, OPT_RTOL, OPT_ATOL, OPT_MAX_STEPS,
-       OPT_NO_PROJECT, OPT_SAMPLE, OPT_RANDOM, OPT_COUNT, OPT_SEED };
+       OPT_NO_PROJECT, OPT_SAMPLE, OPT_RANDOM, OPT_COUNT, OPT_SEED,
+       OPT_COMPILED };
 
 static const struct option long_options[] = {
     {"help", no_argument, NULL, 'h'},
@@ -81,6 +83,7 @@ static const struct option long_options[] = {
     {"atol", required_argument, NULL, OPT_ATOL},
     {"max-steps", required_argument, NULL, OPT_MAX_STEPS},
     {"no-project", no_argument, NULL, OPT_NO_PROJECT},
+    {"compiled", no_argument, NULL, OPT_COMPILED},
     {"quiet", no_argument, NULL, 'q'},
     {NULL, 0, NULL, 0},
 };
@@ -125,6 +128,8 @@ static void help(void)
         "      --integrator M    rk4, erk, adams, bdf, ida or esdirk (default rk4)\n"
         "      --dt H, --rtol R, --atol A, --max-steps N, --no-project\n"
         "                        as for eom-run\n"
+        "      --compiled        every run on compiled tapes, compiled once "
+        "(as eom-run)\n"
         "  -q, --quiet           no progress line and no summary line\n"
         "\nExit status: 0 every run succeeded, 1 some run failed (see the "
         "summary's\nstatus and message columns) or the ensemble could not "
@@ -191,6 +196,7 @@ static int parse(int argc, char **argv, cli *c)
             c->opts.max_steps = (long)v;
             break;
         case OPT_NO_PROJECT: c->opts.project = 0; break;
+        case OPT_COMPILED: c->compiled = 1; break;
         case 'q': c->quiet = 1; break;
         case ':':
             return cli_usage_error("option '%s' needs an argument",
@@ -417,6 +423,18 @@ static int run(cli *c, const demo *d)
         goto done;
     }
     eom_model_free(&model);
+    /* compiled once here: every thread's clone inherits it */
+    if (c->compiled) {
+        eom_compiled_info ci;
+        if (eom_system_set_compiled(s, 1, &ci) != EOM_OK)
+            fprintf(stderr, "eom-ensemble: %s: warning: %s\n", d->name,
+                    eom_system_errmsg(s));
+        else if (!c->quiet)
+            fprintf(stderr,
+                    "eom-ensemble: %s: compiled tapes in use (%d of %d from "
+                    "the cache, %.2f s)\n",
+                    d->name, ci.cached, ci.tapes, ci.seconds);
+    }
     n = eom_system_ncoords(s);
     x0 = malloc(2 * (size_t)n * sizeof *x0);
     p0 = malloc(((size_t)eom_system_nparams(s) + 1) * sizeof *p0);

@@ -98,6 +98,40 @@ static void case_threads(void)
     free(b);
 }
 
+/* --compiled: the interpreter's summary, bit for bit but for wall_time,
+ * on two threads (the clones share the compiled tapes). */
+static void case_compiled(void)
+{
+    char model[PATH_MAX + 32], out1[300], out2[300], cache[300];
+    const char *args[] = {model, "--sweep", "EI=2e4:8e4:3", "--t-end", "0.3",
+                          "--integrator", "erk", "--threads", "2", "--out",
+                          NULL, NULL, NULL};
+    char *a, *b;
+    result r;
+    snprintf(model, sizeof model, "%s/closed-chain.eom", models);
+    scratch(out1, sizeof out1, "interpreted.csv");
+    scratch(out2, sizeof out2, "compiled.csv");
+    scratch(cache, sizeof cache, "cache");
+    setenv("AUTOEOM_CACHE_DIR", cache, 1);
+    args[10] = out1;
+    run(&r, args);
+    CHECK_INT(r.status, 0);
+    result_free(&r);
+    args[10] = out2;
+    args[11] = "--compiled";
+    run(&r, args);
+    CHECK_INT(r.status, 0);
+    CHECK_HAS(r.err, "compiled tapes in use");
+    result_free(&r);
+    a = summary(out1);
+    b = summary(out2);
+    CHECK(a && b);
+    if (a && b)
+        CHECK(strcmp(a, b) == 0);
+    free(a);
+    free(b);
+}
+
 /* The spring pendulum with r = 0 in the middle: a singular mass matrix. */
 static void write_runs(const char *path, const char *const *rows)
 {
@@ -530,6 +564,7 @@ static const struct {
     {"ensemble_usage", case_usage}, {"ensemble_random", case_random},
     {"ensemble_mpi", case_mpi}, {"ensemble_kill", case_kill},
     {"ensemble_mpi_setup", case_mpi_setup}, {"ensemble_time", case_time},
+    {"ensemble_compiled", case_compiled},
 };
 
 int main(int argc, char **argv)
