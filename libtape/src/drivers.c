@@ -292,6 +292,30 @@ int tp_taylor2(tp_ws *ws, const double *x, const double *d, double *y,
     return st;
 }
 
+/* M's columns c0 .. c0 + pc - 1 and h's entries from H, the Hessian
+ * columns of one chunk of rate directions (rows: d/dq (n), then d/dqd
+ * (n), then d/dt when timed; pc columns). */
+static void store_block(const double *H, int n, int c0, int pc, bool timed,
+                        const double *qd, double *M, double *h)
+{
+    int k, i;
+    for (k = 0; k < pc; k++) {
+        if (M)
+            for (i = 0; i < n; i++)
+                M[(size_t)i * (size_t)n + (size_t)(c0 + k)] =
+                    H[(size_t)(n + i) * (size_t)pc + (size_t)k];
+        if (h) {
+            /* h_c = sum_j d2L/(dq_j dqd_c) qd_j (+ d2L/(dt dqd_c)) */
+            double s = 0.0;
+            for (i = 0; i < n; i++)
+                s += H[(size_t)i * (size_t)pc + (size_t)k] * qd[i];
+            if (timed)
+                s += H[(size_t)(2 * n) * (size_t)pc + (size_t)k];
+            h[c0 + k] = s;
+        }
+    }
+}
+
 int tp_lagrange(tp_ws *ws, const double *x, int out, double *L, double *dLdq,
                 double *M, double *h)
 {
@@ -307,9 +331,8 @@ int tp_lagrange_t(tp_ws *ws, const double *x, int out, double *L,
 {
     int st = begin(ws, x, "tp_lagrange");
     const tp_tape *T;
-    const double *w, *qd;
-    uint32_t end;
-    int n, c0, k, i;
+    const double *qd;
+    int n, c0;
     bool timed, compiled;
     if (st)
         return st;
@@ -319,43 +342,29 @@ int tp_lagrange_t(tp_ws *ws, const double *x, int out, double *L,
     n = (int)T->n_indep / 2;
     timed = T->n_indep % 2 != 0;
     qd = x + n;
-    w = unit_weights(ws, out);
-    end = end_of(T, w);
-    if (n == 0 || (!M && !h)) {
-        tp__fwd0(ws, x, end);
-        tp__rev1(ws, w, end, ws->g);
-    }
     if (h)
         memset(h, 0, (size_t)n * sizeof(double));
-    /* compiled: the whole block in one call (lcount = n <= max_dirs) */
+    /* compiled: the whole block in one call (lcount = n <= max_dirs), no
+     * weights, ends or seed masks to work out */
     compiled = ws->cc && ws->cc->lagrange && ws->cc->lout == out &&
                ws->cc->lfirst == n && n <= ws->max_dirs && (M || h);
-    for (c0 = 0; c0 < n && (M || h); c0 += ws->max_dirs) {
-        const int pc = n - c0 < ws->max_dirs ? n - c0 : ws->max_dirs;
-        const unsigned mask = tp__seed_mask(T, pc, NULL, 0, n + c0);
-        /* rows: d/dq (n), then d/dqd (n), then d/dt when timed */
-        const double *H = ws->hs;
-        if (compiled) {
-            tp__lagrange_compiled(ws, x, ws->g, ws->hs);
-        } else {
+    if (compiled) {
+        tp__lagrange_compiled(ws, x, ws->g, ws->hs);
+        store_block(ws->hs, n, 0, n, timed, qd, M, h);
+    } else {
+        const double *w = unit_weights(ws, out);
+        const uint32_t end = end_of(T, w);
+        if (n == 0 || (!M && !h)) {
+            tp__fwd0(ws, x, end);
+            tp__rev1(ws, w, end, ws->g);
+        }
+        for (c0 = 0; c0 < n && (M || h); c0 += ws->max_dirs) {
+            const int pc = n - c0 < ws->max_dirs ? n - c0 : ws->max_dirs;
+            const unsigned mask = tp__seed_mask(T, pc, NULL, 0, n + c0);
             tp__fwd1(ws, x, pc, NULL, 0, n + c0, mask, end);
             tp__rev2(ws, w, pc, mask, end, c0 == 0 ? ws->g : NULL, ws->hs,
                      (size_t)pc);
-        }
-        for (k = 0; k < pc; k++) {
-            if (M)
-                for (i = 0; i < n; i++)
-                    M[(size_t)i * (size_t)n + (size_t)(c0 + k)] =
-                        H[(size_t)(n + i) * (size_t)pc + (size_t)k];
-            if (h) {
-                /* h_c = sum_j d2L/(dq_j dqd_c) qd_j (+ d2L/(dt dqd_c)) */
-                double s = 0.0;
-                for (i = 0; i < n; i++)
-                    s += H[(size_t)i * (size_t)pc + (size_t)k] * qd[i];
-                if (timed)
-                    s += H[(size_t)(2 * n) * (size_t)pc + (size_t)k];
-                h[c0 + k] = s;
-            }
+            store_block(ws->hs, n, c0, pc, timed, qd, M, h);
         }
     }
     if (L)
