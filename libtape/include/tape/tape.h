@@ -384,23 +384,27 @@ TP_API int tp_call_vjp(tp_rec *r, const tp_tape *t, const tp_val *x,
 
 /* ---- compiled tapes ---------------------------------------------------- */
 
-/* A tape as machine code: its sweeps emitted as C (one statement per op,
- * the interpreter's own per-op code with the op's slots and constants as
- * literals), built by the system's C compiler into a shared object, kept
- * in a per-user cache and loaded. A workspace given one runs every sweep
- * through it, with the interpreter's results: the per-op arithmetic is
- * the same text, compiled without contraction of multiply-adds, and every
- * object is compared with the interpreter at one state when it is loaded.
- * Immutable once made: workspaces of any thread may share one. Free it
- * after the workspaces that use it, and before its tape. */
+/* A tape as machine code: emitted as C, built by the system's C compiler
+ * into a shared object, kept in a per-user cache and loaded. A workspace
+ * given one runs its value sweeps (tp_eval, and the forward part of the
+ * other calls), its gradient sweeps (tp_vjp, tp_gradient) and, if it was
+ * compiled, the Lagrange block (tp_lagrange, tp_lagrange_t) through it;
+ * the sweeps over many directions (tp_jvp, tp_jacobian, tp_hvp,
+ * tp_hessian_cols) and tp_taylor2 stay interpreted. The results are the
+ * interpreter's: the per-op arithmetic is the same text, compiled without
+ * contraction of multiply-adds, and every object is compared with the
+ * interpreter at one state when it is loaded (docs/libtape.md, "Compiled
+ * tapes"). Immutable once made: workspaces of any thread may share one.
+ * Free it after the workspaces that use it, and before its tape. */
 typedef struct tp_compiled tp_compiled;
 
 typedef struct tp_compile_opts {
     /* The compiler command, words separated by blanks (NULL or "": the
      * environment's CC, else "cc"). */
     const char *cc;
-    /* Its flags (NULL: "-O1"); -fPIC -shared -ffp-contract=off are always
-     * added. Flags that change rounding (-ffast-math) fail the check. */
+    /* Its flags (NULL: the environment's AUTOEOM_CFLAGS, else "-O1");
+     * -fPIC -shared -ffp-contract=off are always added. Flags that change
+     * rounding (-ffast-math) fail the check. */
     const char *cflags;
     /* The cache (NULL: $AUTOEOM_CACHE_DIR, else $XDG_CACHE_HOME/autoeom,
      * else $HOME/.cache/autoeom); created with mode 0700. */
@@ -409,16 +413,16 @@ typedef struct tp_compile_opts {
      * the interpreter (NULL: a fixed point with entries in 0.3 .. 0.85).
      * Give a state inside the model's domain. */
     const double *x;
-    /* The max_dirs of the workspaces that will use it (0: any). With it
-     * the direction loops have a fixed length, which compiles to faster
-     * code; such a compiled tape serves only workspaces of that max_dirs
-     * (tp_ws_set_compiled checks), and sweeps of fewer directions run on
-     * the interpreter. */
+    /* The max_dirs of the workspaces that will use it (0: any). The
+     * Lagrange block needs it (its rows then have a fixed width); a
+     * compiled tape made with it serves only workspaces of that max_dirs
+     * (tp_ws_set_compiled checks). */
     int max_dirs;
     /* 1: also compile the Lagrange block of output lagrange_out, which
      * tp_lagrange and tp_lagrange_t then run in one call: the tape's
      * independents must be (q, qd) or (q, qd, t) with the rates a
-     * dependency group of their own, and max_dirs >= n. */
+     * dependency group of their own, and max_dirs >= n (TP_ERR_SIZE
+     * otherwise). */
     int lagrange;
     int lagrange_out;
 } tp_compile_opts;
@@ -434,7 +438,8 @@ typedef struct tp_compile_info {
 
 /* Compile t (or load it from the cache). On success *out is the compiled
  * tape and info (may be NULL) says how it was obtained; on failure *out
- * is NULL, the status is TP_ERR_COMPILE (or TP_ERR_NOMEM, TP_ERR_NULL) and
+ * is NULL, the status is TP_ERR_COMPILE (or TP_ERR_NOMEM, TP_ERR_NULL,
+ * TP_ERR_SIZE) and
  * info->msg says why: the tape still runs on the interpreter. Never
  * terminates the caller: the compiler runs as a child process. The
  * compiler's messages of a failed build stay in the cache as NAME.log;
@@ -443,7 +448,8 @@ TP_API int tp_compile(const tp_tape *t, const tp_compile_opts *o,
                       tp_compiled **out, tp_compile_info *info);
 TP_API void tp_compiled_free(tp_compiled **c);
 /* Run ws's sweeps through c (NULL: back to the interpreter). c must have
- * been made from ws's tape (TP_ERR_FOREIGN otherwise). */
+ * been made from ws's tape (TP_ERR_FOREIGN otherwise) and for its
+ * max_dirs, if with one (TP_ERR_SIZE otherwise). */
 TP_API int tp_ws_set_compiled(tp_ws *ws, const tp_compiled *c);
 /* 1 if ws runs compiled code, else 0. */
 TP_API int tp_ws_compiled(const tp_ws *ws);
