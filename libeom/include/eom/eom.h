@@ -218,8 +218,9 @@ EOM_API const char *eom_system_errmsg(const eom_system *s);
  * cc; flags -O1) into a per-user cache ($AUTOEOM_CACHE_DIR, else
  * $XDG_CACHE_HOME/autoeom, else ~/.cache/autoeom), loaded, and checked
  * against the interpreter at the model's initial state; from then on
- * every evaluation of s (right-hand sides, energies, probes, Jacobians)
- * runs the compiled code, with the interpreter's results. A second call,
+ * the right-hand sides, energies and probes of s run the compiled code,
+ * with the interpreter's results (the exact Jacobians of the implicit
+ * methods stay interpreted). A second call,
  * or another process, finds the objects in the cache. When anything
  * fails (no compiler, a compiler error, a failed check) s stays on the
  * interpreter and the call returns EOM_WARN_INTERPRETED with the reason
