@@ -565,8 +565,18 @@ static void case_tolerance(void)
     result_free(&r);
 }
 
+/* fc equals the file at path b. */
+static int fb_matches(const char *fc, const char *b)
+{
+    char *fb = read_file(b, NULL);
+    const int same = fb && strcmp(fb, fc) == 0;
+    free(fb);
+    return same;
+}
+
 /* --compiled: the interpreter's CSV, byte for byte; the second run loads
- * from the cache; without a compiler a warning and the same CSV. */
+ * from the cache; without a compiler (none on PATH, or CC naming none) a
+ * warning and the same CSV. */
 static void case_compiled(void)
 {
     char cache[512], cache2[512], a[512], b[512], c[512];
@@ -595,7 +605,18 @@ static void case_compiled(void)
     CHECK_INT(r.status, 0);
     CHECK_HAS(r.err, "compiled tapes in use (2 of 2 from the cache");
     result_free(&r);
-    /* no compiler, an empty cache: the run goes on interpreted */
+    /* no compiler on PATH, an empty cache: the run goes on interpreted */
+    setenv("AUTOEOM_CACHE_DIR", cache2, 1);
+    unsetenv("CC");
+    run_path(&r, nocc, "/nonexistent");
+    CHECK_INT(r.status, 0);
+    CHECK_HAS(r.err, "warning: compiled tapes are not in use");
+    CHECK_HAS(r.err, "cannot run the C compiler 'cc'");
+    result_free(&r);
+    fc = read_file(c, NULL);
+    CHECK(fc && fb_matches(fc, b));
+    free(fc);
+    /* CC naming no compiler */
     setenv("AUTOEOM_CACHE_DIR", cache2, 1);
     setenv("CC", "/nonexistent/bin/cc", 1);
     run(&r, nocc);
