@@ -52,3 +52,20 @@ int cli_integrator_arg(const char *text, eom_method *out)
     *out = (eom_method)m;
     return 0;
 }
+
+void cli_compiled(eom_system *s, const char *label, int quiet)
+{
+    eom_compiled_info ci;
+    quiet = quiet || !speaks;
+    if (!quiet)
+        fprintf(stderr, "%s: %s: compiling the tapes, or loading them from "
+                "the cache\n", program, label);
+    if (eom_system_set_compiled(s, 1, &ci) != EOM_OK)
+        fprintf(stderr, "%s: %s: warning: %s\n", program, label,
+                eom_system_errmsg(s));
+    else if (!quiet)
+        fprintf(stderr,
+                "%s: %s: compiled tapes in use (%d of %d from the cache, "
+                "%.2f s)\n",
+                program, label, ci.cached, ci.tapes, ci.seconds);
+}

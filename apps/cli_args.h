@@ -1,6 +1,6 @@
 /* cli_args.h - what eom-run and eom-ensemble share on their command
- * lines: the message of a usage error (exit status 2) and the checked
- * reading of number and integrator options. */
+ * lines: the message of a usage error (exit status 2), the checked
+ * reading of number and integrator options, and --compiled. */
 #ifndef APPS_CLI_ARGS_H
 #define APPS_CLI_ARGS_H
 
@@ -27,5 +27,11 @@ int cli_number_arg(const char *opt, const char *text, int positive,
 
 /* --integrator: rk4, erk, adams, bdf, ida or esdirk. */
 int cli_integrator_arg(const char *text, eom_method *out);
+
+/* --compiled: s on compiled tapes, saying so on standard error first
+ * (a first run waits for the compiler) and after, unless quiet; without
+ * them a warning, and s stays on the interpreter (never an error). label
+ * names the model in the messages. */
+void cli_compiled(eom_system *s, const char *label, int quiet);
 
 #endif /* APPS_CLI_ARGS_H */

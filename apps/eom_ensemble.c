@@ -424,17 +424,8 @@ static int run(cli *c, const demo *d)
     }
     eom_model_free(&model);
     /* compiled once here: every thread's clone inherits it */
-    if (c->compiled) {
-        eom_compiled_info ci;
-        if (eom_system_set_compiled(s, 1, &ci) != EOM_OK)
-            fprintf(stderr, "eom-ensemble: %s: warning: %s\n", d->name,
-                    eom_system_errmsg(s));
-        else if (!c->quiet)
-            fprintf(stderr,
-                    "eom-ensemble: %s: compiled tapes in use (%d of %d from "
-                    "the cache, %.2f s)\n",
-                    d->name, ci.cached, ci.tapes, ci.seconds);
-    }
+    if (c->compiled)
+        cli_compiled(s, d->name, c->quiet);
     n = eom_system_ncoords(s);
     x0 = malloc(2 * (size_t)n * sizeof *x0);
     p0 = malloc(((size_t)eom_system_nparams(s) + 1) * sizeof *p0);

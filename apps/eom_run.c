@@ -564,24 +564,8 @@ static int run(cli *c, const demo *d)
                 "(docs/integrators.md, \"Sensitivities\")\n", d->name);
         goto done;
     }
-    if (c->compiled) {
-        eom_compiled_info ci;
-        /* a first run may wait for the compiler: say why */
-        if (!c->quiet)
-            fprintf(stderr, "eom-run: %s: compiling the tapes, or loading "
-                    "them from the cache\n", d->name);
-        if (eom_system_set_compiled(s, 1, &ci) == EOM_OK) {
-            if (!c->quiet)
-                fprintf(stderr,
-                        "eom-run: %s: compiled tapes in use (%d of %d from "
-                        "the cache, %.2f s)\n",
-                        d->name, ci.cached, ci.tapes, ci.seconds);
-        } else {
-            /* a warning: the run goes on, interpreted */
-            fprintf(stderr, "eom-run: %s: warning: %s\n", d->name,
-                    eom_system_errmsg(s));
-        }
-    }
+    if (c->compiled)
+        cli_compiled(s, d->name, c->quiet);
     if (c->baumgarte && eom_set_baumgarte(s, c->alpha, c->beta) != EOM_OK) {
         fprintf(stderr, "eom-run: %s\n", eom_system_errmsg(s));
         goto done;

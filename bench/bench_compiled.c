@@ -22,10 +22,7 @@
 #include <string.h>
 
 #include "bench_util.h"
-#include "chain_plain.h"
-#include "eom/chain.h"
-
-static const double pi = 3.14159265358979323846;
+#include "chain_unequal.h"
 
 typedef struct ctx {
     eom_system *s;
@@ -46,47 +43,18 @@ static void call_hand(void *p)
     chain_plain_hand_rhs(c->hand, c->x, c->qdd);
 }
 
-static double link_m(int j) { return 1.0 + 0.1 * (j % 7); }
-static double link_L(int j) { return 10.0 - 0.3 * (j % 5); }
-
-static eom_system *make(int links, int modes, double *mv, double *Lv,
-                        double *EIv)
+static eom_system *make(chain_plain *cp, int links, int modes, double *mv,
+                        double *Lv, double *EIv)
 {
-    eom_chain_spec sp;
     eom_model *m = NULL;
     eom_system *s = NULL;
-    char msg[256];
-    int j;
-    for (j = 0; j < links; j++) {
-        mv[j] = link_m(j);
-        Lv[j] = link_L(j);
-        EIv[j] = 4e4;
-    }
-    memset(&sp, 0, sizeof sp);
-    sp.links = links;
-    sp.modes_all = modes;
-    sp.m_link = mv;
-    sp.L_link = Lv;
-    sp.EI_link = EIv;
-    sp.g = 9.81;
-    if (eom_model_new(&m) != EOM_OK || eom_chain_add(m, &sp) < 0 ||
+    char msg[256] = "";
+    chain_unequal(cp, links, modes, mv, Lv, EIv);
+    if (chain_unequal_model(cp, &m) != EOM_OK ||
         eom_system_new(&s, m, msg, sizeof msg) != EOM_OK)
         fprintf(stderr, "bench-compiled: set-up failed: %s\n", msg);
     eom_model_free(&m);
     return s;
-}
-
-static void state(int links, int n, double *x)
-{
-    int j;
-    for (j = 0; j < links; j++) {
-        x[j] = -pi / 2 + (j % 2 ? -0.4 : 0.3) + 0.01 * j;
-        x[n + j] = 0.2 * sin(1.0 + j);
-    }
-    for (j = links; j < n; j++) {
-        x[j] = 1e-3 * cos(j);
-        x[n + j] = 1e-2 * sin(2.0 * j);
-    }
 }
 
 static void row(int links, int modes, int reps)
@@ -102,7 +70,7 @@ static void row(int links, int modes, int reps)
     double *xdi;
 
     t0 = bench_now();
-    s = make(links, modes, mv, Lv, EIv);
+    s = make(&cp, links, modes, mv, Lv, EIv);
     t_rec = bench_now() - t0;
     if (!s)
         return;
@@ -117,7 +85,7 @@ static void row(int links, int modes, int reps)
         return;
     }
     /* a second system: its tapes are found in the cache */
-    s2 = make(links, modes, mv, Lv, EIv);
+    s2 = make(&cp, links, modes, mv, Lv, EIv);
     t0 = bench_now();
     eom_system_set_compiled(s2, 1, &warm);
     t_warm = bench_now() - t0;
@@ -125,7 +93,7 @@ static void row(int links, int modes, int reps)
     memset(&ci, 0, sizeof ci);
     ci.x = calloc(4 * (size_t)n + (size_t)n, sizeof(double));
     ci.xd = ci.x + 2 * n;
-    state(links, n, ci.x);
+    chain_unequal_state(&cp, n, ci.x);
     ci.s = s2;
     eom_system_set_compiled(s2, 0, NULL); /* s2: the interpreter */
     cc = ci;
@@ -139,16 +107,8 @@ static void row(int links, int modes, int reps)
     ch = ci;
     ch.hand = NULL;
     ch.qdd = ci.x + 4 * n;
-    if (modes == 0) {
-        cp.links = links;
-        cp.modes = 0;
-        cp.m = mv;
-        cp.L = Lv;
-        cp.EI = EIv;
-        cp.g = 9.81;
-        if (chain_plain_hand_new(&ch.hand, &cp) != 0)
-            ch.hand = NULL;
-    }
+    if (modes == 0 && chain_plain_hand_new(&ch.hand, &cp) != 0)
+        ch.hand = NULL;
     {
         const long bi = bench_calibrate(call_rhs, &ci, 0.01);
         const long bh = ch.hand ? bench_calibrate(call_hand, &ch, 0.01) : 0;

@@ -23,7 +23,7 @@
 
 #include "bench_util.h"
 #include "chain_plain.h"
-#include "eom/chain.h"
+#include "chain_unequal.h"
 #ifdef HAVE_ADOLC
 #include "adolc_rhs.h"
 #endif
@@ -33,8 +33,6 @@ void dpotrf_(const char *uplo, const int *n, double *a, const int *lda,
 void dpotrs_(const char *uplo, const int *n, const int *nrhs,
              const double *a, const int *lda, double *b, const int *ldb,
              int *info, size_t uplo_len);
-
-static const double pi = 3.14159265358979323846;
 
 enum { M_PLAIN, M_TAPE, M_TUPLE, M_HAND, M_ADOLC_VEC, M_ADOLC_HESS,
        M_COUNT };
@@ -142,31 +140,13 @@ static void (*const mfn[M_COUNT])(void *) = {
 #endif
 };
 
-/* Unequal links, so no symmetry helps any method. */
-static double link_m(int j) { return 1.0 + 0.1 * (j % 7); }
-static double link_L(int j) { return 10.0 - 0.3 * (j % 5); }
-
 static int setup(ctx *c, int links, int modes, double *mv, double *Lv,
                  double *EIv)
 {
-    eom_chain_spec sp;
-    char msg[256];
-    int j, i;
+    char msg[256] = "";
     memset(c, 0, sizeof *c);
-    for (j = 0; j < links; j++) {
-        mv[j] = link_m(j);
-        Lv[j] = link_L(j);
-        EIv[j] = 4e4;
-    }
-    memset(&sp, 0, sizeof sp);
-    sp.links = links;
-    sp.modes_all = modes;
-    sp.m_link = mv;
-    sp.L_link = Lv;
-    sp.EI_link = EIv;
-    sp.g = 9.81;
-    if (eom_model_new(&c->model) != EOM_OK ||
-        eom_chain_add(c->model, &sp) < 0 ||
+    chain_unequal(&c->cp, links, modes, mv, Lv, EIv);
+    if (chain_unequal_model(&c->cp, &c->model) != EOM_OK ||
         eom_system_new(&c->s, c->model, msg, sizeof msg) != EOM_OK) {
         fprintf(stderr, "bench-rhs: set-up failed: %s\n", msg);
         return -1;
@@ -177,21 +157,7 @@ static int setup(ctx *c, int links, int modes, double *mv, double *Lv,
         return -1;
     c->xd = c->x + 2 * c->n;
     c->qdd = c->xd + c->n;
-    /* a hanging zig-zag, moving, slightly bent */
-    for (j = 0; j < links; j++) {
-        c->x[j] = -pi / 2 + (j % 2 ? -0.4 : 0.3) + 0.01 * j;
-        c->x[c->n + j] = 0.2 * sin(1.0 + j);
-    }
-    for (i = links; i < c->n; i++) {
-        c->x[i] = 1e-3 * cos(i);
-        c->x[c->n + i] = 1e-2 * sin(2.0 * i);
-    }
-    c->cp.links = links;
-    c->cp.modes = modes;
-    c->cp.m = mv;
-    c->cp.L = Lv;
-    c->cp.EI = EIv;
-    c->cp.g = 9.81;
+    chain_unequal_state(&c->cp, c->n, c->x);
     c->have[M_PLAIN] = c->have[M_TAPE] = 1;
     if (c->n <= TUPLE_MAX_N && tp_tuple_new(&c->tup, 2 * c->n, NULL) == 0) {
         c->M = calloc((size_t)c->n * (size_t)(c->n + 2), sizeof(double));

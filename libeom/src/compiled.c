@@ -10,21 +10,17 @@
 
 #include "eom_internal.h"
 
-/* Where a tape is checked against the interpreter: the initial state in
- * the leading coordinates and rates, zero accelerations, multipliers and
- * time, and (residual tape) the parameter values in use. */
+/* Where a tape is checked against the interpreter: the initial state,
+ * (q, qd, t = 0), or (q, t = 0) for the constraints (k = 4). */
 static void check_point(const eom_system *s, const eom_tape *et, int k,
                         double *x)
 {
     const int ni = tp_tape_n_indep(et->tape), n = s->n;
     int i;
-    for (i = 0; i < ni; i++) {
-        const eom_named *c = &s->coords[i % n];
-        x[i] = i < n ? c->v0 : i < 2 * n && k != 4 ? c->v1 : 0.0;
-    }
-    if (k == 5)
-        for (i = 0; i < s->np; i++)
-            x[ni - s->np + i] = s->pval[i];
+    for (i = 0; i < ni; i++)
+        x[i] = i < n ? s->coords[i].v0
+               : i < 2 * n && k != 4 ? s->coords[i - n].v1
+                                     : 0.0;
 }
 
 /* Point s's workspaces at the shared compiled tapes (on) or back to the

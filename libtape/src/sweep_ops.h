@@ -280,18 +280,12 @@ TP_OPFN(fwd1, MUL)
             tp__row_scale(R(i), R(u), (f), x->pr);                         \
     }
 TP_FWD1_UNARY(NEG, -1.0)
+TP_FWD1_UNARY(ADDC, 1.0) /* 1 * row: the row itself, exactly */
 TP_FWD1_UNARY(MULC, x->K[t])
 TP_FWD1_UNARY(CSUB, -1.0)
 TP_FWD1_UNARY(SQR, 2.0 * x->v[u])
 TP_FWD1_UNARY(SIN, x->aux[i])  /* fu = cos u, left in aux */
 TP_FWD1_UNARY(COS, -x->aux[i]) /* fu = -sin u */
-
-TP_OPFN(fwd1, ADDC)
-{
-    tp__value_ADDC(x, i, op, fl, u, t);
-    if (ACTIVE)
-        tp__row_copy(R(i), R(u), x->pr);
-}
 
 TP_OPFN(fwd1, GEN)
 {
@@ -538,7 +532,8 @@ TP_OPFN(rev2, MUL)
     }
 }
 
-/* Linear unary ops with partial f. */
+/* Linear unary ops with partial f (+-1 multiplies exactly: these are
+ * the interpreter's adj -= a, ru -= ra, ru += ra). */
 #define TP_REV2_LIN(OP, f)                                                 \
     TP_OPFN(rev2, OP)                                                      \
     {                                                                      \
@@ -546,26 +541,10 @@ TP_OPFN(rev2, MUL)
         ADJ[u] += a * (f);                                                 \
         tp__adj_lin1(A(u), A(i), (f), p);                                  \
     }
-/* (written out: the interpreter's arithmetic, a * c and -a) */
-TP_OPFN(rev2, NEG)
-{
-    TP_REV2_BEGIN(NEG, TP_OP_NEG);
-    ADJ[u] -= a;
-    tp__adj_lin1(A(u), A(i), -1.0, p);
-}
-TP_OPFN(rev2, CSUB)
-{
-    TP_REV2_BEGIN(CSUB, TP_OP_CSUB);
-    ADJ[u] -= a;
-    tp__adj_lin1(A(u), A(i), -1.0, p);
-}
+TP_REV2_LIN(NEG, -1.0)
+TP_REV2_LIN(CSUB, -1.0)
+TP_REV2_LIN(ADDC, 1.0)
 TP_REV2_LIN(MULC, x->K[t])
-TP_OPFN(rev2, ADDC)
-{
-    TP_REV2_BEGIN(ADDC, TP_OP_ADDC);
-    ADJ[u] += a;
-    tp__adj_acc1(A(u), A(i), p);
-}
 
 /* Non-linear unary ops with first and second partials f, ff. */
 #define TP_REV2_UNARY(OP, f, ff)                                           \
