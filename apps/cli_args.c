@@ -48,7 +48,8 @@ int cli_integrator_arg(const char *text, eom_method *out)
     int m = eom_method_from_name(text);
     if (m < 0)
         return cli_usage_error("--integrator '%s': unknown integrator "
-                               "(choose rk4, erk, adams, bdf, ida or esdirk)", text);
+                               "(choose rk4, erk, adams, bdf, ida, esdirk or imex)",
+                               text);
     *out = (eom_method)m;
     return 0;
 }

@@ -25,7 +25,7 @@ int cli_usage_error(const char *fmt, ...)
 int cli_number_arg(const char *opt, const char *text, int positive,
                    double *out);
 
-/* --integrator: rk4, erk, adams, bdf, ida or esdirk. */
+/* --integrator: rk4, erk, adams, bdf, ida, esdirk or imex. */
 int cli_integrator_arg(const char *text, eom_method *out);
 
 /* --compiled: s on compiled tapes, saying so on standard error first

@@ -11,8 +11,8 @@
 
 #include "integrate_internal.h"
 
-static const char *const method_names[] = {"rk4", "erk",  "adams",
-                                           "bdf", "ida",  "esdirk"};
+static const char *const method_names[] = {"rk4", "erk",    "adams", "bdf",
+                                           "ida", "esdirk", "imex"};
 #define METHODS (int)(sizeof method_names / sizeof method_names[0])
 
 const char *eom_method_name(eom_method m)
@@ -121,6 +121,8 @@ static double calibration(const eom_integ *it)
         return 0.05;
     case EOM_ESDIRK:
         return 0.05;
+    case EOM_IMEX:
+        return 0.05;
     default:
         return 0.0;
     }
@@ -130,8 +132,8 @@ static double calibration(const eom_integ *it)
  * lower max_order keeps it (docs/integrators.md) */
 static double exponent(const eom_integ *it)
 {
-    /* esdirk: order 5, one order */
-    const int p = it->o.method == EOM_ESDIRK
+    /* esdirk and imex: order 5, one order */
+    const int p = it->o.method == EOM_ESDIRK || it->o.method == EOM_IMEX
                       ? 5
                       : eom__integ_top_order(it->o.method);
     return (p + 1.0) / p;
@@ -290,6 +292,7 @@ static const eom_integ_ops *ops_of(eom_method m)
     case EOM_BDF: return &eom__cvode_ops;
     case EOM_IDA: return &eom__ida_ops;
     case EOM_ESDIRK: return &eom__esdirk_ops;
+    case EOM_IMEX: return &eom__imex_ops;
     default: return NULL;
     }
 }

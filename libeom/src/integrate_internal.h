@@ -214,5 +214,16 @@ extern const eom_integ_ops eom__erk_ops;
 extern const eom_integ_ops eom__cvode_ops; /* Adams and BDF */
 extern const eom_integ_ops eom__ida_ops;
 extern const eom_integ_ops eom__esdirk_ops;
+extern const eom_integ_ops eom__imex_ops;
+
+/* imex (integrate_imex.c), for white-box tests: the split of the
+ * right-hand side at (t, y) into its explicit part fe and implicit part fi
+ * (N values each; fe + fi is eom__integ_rhs's yd), and the Jacobian of the
+ * implicit part that its Newton matrix uses (N x N, column-major, leading
+ * dimension N). EOM_ERR_ARG when it is not an imex integrator; otherwise
+ * a status with a message in it->msg. */
+int eom__imex_split(eom_integ *it, double t, const double *y, double *fe,
+                    double *fi);
+int eom__imex_jacobian(eom_integ *it, double t, const double *y, double *J);
 
 #endif /* EOM_INTEGRATE_INTERNAL_H */

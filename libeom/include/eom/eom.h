@@ -442,11 +442,17 @@ typedef enum eom_method {
     EOM_ADAMS, /* CVODE Adams-Moulton, fixed-point iteration */
     EOM_BDF,   /* CVODE BDF, Newton iteration with a dense Jacobian */
     EOM_IDA,   /* IDA on the index-1 form (see docs/integrators.md) */
-    EOM_ESDIRK /* ARKODE ARKStep, an implicit, L-stable ESDIRK 5(4) for
-                  stiff models (see docs/integrators.md) */
+    EOM_ESDIRK, /* ARKODE ARKStep, an implicit, L-stable ESDIRK 5(4) for
+                   stiff models (see docs/integrators.md) */
+    EOM_IMEX    /* ARKODE ARKStep, an additive (IMEX) ARK 5(4): the elastic
+                   and dissipative forces (-dV/dq - dR/dqd) with q' = qd
+                   implicit, the inertial terms, Q and the constraints'
+                   gamma explicit; needs T and V given apart (see
+                   docs/integrators.md, "imex") */
 } eom_method;
 
-/* Name as used on the command line ("rk4", "erk", "adams", "bdf", "ida")
+/* Name as used on the command line ("rk4", "erk", "adams", "bdf", "ida",
+ * "esdirk", "imex")
  * and back (-1 for an unknown name). */
 EOM_API const char *eom_method_name(eom_method m);
 EOM_API int eom_method_from_name(const char *name);
@@ -472,8 +478,8 @@ typedef struct eom_opts {
                                integrators.md lists them); NULL (default):
                                "ARKODE_VERNER_8_5_6"; copied */
     int tol_per_step; /* 0 (default): rtol and atol are targets for the
-                         global error, and adams, bdf, ida and esdirk
-                         are handed the tighter per-step tolerances
+                         global error, and adams, bdf, ida, esdirk and
+                         imex are handed the tighter per-step tolerances
                          calibrated to meet them (docs/integrators.md, "What the
                          tolerances mean"); 1: every method gets rtol and
                          atol as given, for its own per-step error test */
@@ -484,7 +490,10 @@ typedef struct eom_opts {
     int dq_jacobian;  /* bdf, ida, esdirk: 0 (default) for the exact
                          Jacobian of the equations (eom_state_jacobian);
                          1 for SUNDIALS' difference quotients, kept as a
-                         reference for tests and benchmarks */
+                         reference for tests and benchmarks. imex: 0 for
+                         the stiff terms of its implicit part's Jacobian
+                         (Hessians of V and R), 1 for ARKODE's difference
+                         quotient of the implicit part */
     int n_sens;       /* adams and bdf: forward sensitivities of the
                          trajectory with respect to n_sens inputs (0,
                          default: none); read them with
@@ -508,7 +517,8 @@ typedef struct eom_stats {
     long steps;          /* accepted steps */
     long rhs_evals;      /* right-hand-side evaluations, all causes */
     long failures;       /* error-test and convergence failures */
-    long jac_evals;      /* Jacobian evaluations (bdf, ida, esdirk) */
+    long jac_evals;      /* Jacobian evaluations (bdf, ida, esdirk,
+                            imex) */
     long projections;    /* projections applied */
     double wall_time;    /* seconds spent in eom_integ_advance */
     double max_residual; /* largest |phi| seen after a step */
@@ -536,7 +546,7 @@ typedef struct eom_stats {
     /* what the error test was given (docs/integrators.md, "What the
      * tolerances mean"): */
     double step_tol;     /* the per-step relative tolerance for rtol:
-                            calibrated for adams, bdf, ida and esdirk, rtol itself
+                            calibrated for adams, bdf, ida, esdirk and imex, rtol itself
                             for erk (and with tol_per_step), 0 for rk4 */
     double tol_reachable; /* 0, or the tolerance the method keeps
                             instead of a tighter one asked for: its
