@@ -133,11 +133,9 @@ static int make_potential(eom_integ *it, imex *d)
         (a.vout = tp_tape_output_index(s->tE.tape, "V")) < 0)
         return eom__integ_fail(
             it, EOM_ERR_MODEL,
-            "the model gives a whole Lagrangian L, not T and V apart, so "
-            "its potential (the stiff part imex integrates implicitly) "
-            "cannot be told from the rest; give T and V (eom_model_set_"
-            "kinetic and eom_model_set_potential, or T = and V = in a model "
-            "file), or use esdirk or bdf (docs/integrators.md)");
+            "the model gives a whole Lagrangian, not T and V apart: the "
+            "implicit part needs V; give T and V, or use esdirk or bdf "
+            "(docs/integrators.md)");
     a.tE = s->tE.tape;
     if (!(grp = malloc(2 * (size_t)n)))
         return eom__integ_nomem(it);

@@ -164,6 +164,7 @@ static int expect_floor(const char *model, eom_method m, double tol)
     case EOM_IDA:
         return 0.05 * pow(tol, 1.2) < (closed ? 1e-12 : 3e-16);
     case EOM_ESDIRK:
+    case EOM_IMEX:
         return 0.05 * pow(tol, 1.2) < 3e-16;
     default:
         return 0;
@@ -174,11 +175,11 @@ static int expect_floor(const char *model, eom_method m, double tol)
 static void check_model(const char *name, eom_system *s, const double *ref)
 {
     static const eom_method adaptive[] = {EOM_ERK, EOM_ADAMS, EOM_BDF,
-                                          EOM_IDA, EOM_ESDIRK};
+                                          EOM_IDA, EOM_ESDIRK, EOM_IMEX};
     const int len = 2 * eom_system_ncoords(s);
     double x[NMAX], errs[4], steps[4];
     int i, k;
-    for (i = 0; i < 5; i++) {
+    for (i = 0; i < 6; i++) {
         printf("%-15s %-5s error / tol:", name, eom_method_name(adaptive[i]));
         for (k = 0; k < 4; k++) {
             const double tol = pow(10.0, -6 - 2 * k);
