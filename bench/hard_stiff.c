@@ -17,7 +17,9 @@
  * stiffness limit, as an explicit method's steps are stable only there.
  * bdf, ida and esdirk are implicit: Newton iteration with the exact
  * Jacobian (eom_opts.dq_jacobian = 0, the default, as wp_run.c leaves
- * it).
+ * it). imex is counted implicit too: its elastic and dissipative forces
+ * (with q' = qd) are, with Newton iteration on the Hessians of V and R;
+ * its inertial terms are explicit (docs/integrators.md, "imex").
  *
  * Time: CPU time of eom_integ_new and every eom_integ_advance (wp_run.h;
  * the program is single-threaded, so the thread's CPU clock is the
@@ -77,7 +79,8 @@ static void plan_of(wp_plan *p, int quick)
 
 static int implicit(int method)
 {
-    return method == EOM_BDF || method == EOM_IDA || method == EOM_ESDIRK;
+    return method == EOM_BDF || method == EOM_IDA || method == EOM_ESDIRK ||
+           method == EOM_IMEX;
 }
 
 /* The eigenvalue of largest modulus of the constrained linearization at

@@ -96,7 +96,8 @@ static void write_gp(FILE *f, const wp_sweep *w)
     static const char *const style[WP_NMETHODS] = {
         "lc rgb '#000000' pt 5", "lc rgb '#1f77b4' pt 7",
         "lc rgb '#2ca02c' pt 9", "lc rgb '#d62728' pt 13",
-        "lc rgb '#9467bd' pt 11", "lc rgb '#ff7f0e' pt 15"};
+        "lc rgb '#9467bd' pt 11", "lc rgb '#ff7f0e' pt 15",
+        "lc rgb '#8c564b' pt 3"};
     int k, block = 0, first = 1;
     fprintf(f, "# %s-wp.gp - %s: wall time against the state error at "
             "t = %g s,\n# one series per integrator, from %s-wp.dat. "

@@ -16,8 +16,8 @@
 
 #include "wp_run.h"
 
-/* rk4, erk, adams, bdf, ida, esdirk: eom_method order */
-enum { WP_NMETHODS = 6 };
+/* rk4, erk, adams, bdf, ida, esdirk, imex: eom_method order */
+enum { WP_NMETHODS = 7 };
 
 typedef struct wp_plan {
     double t_end, sample;    /* s: the run, and the interval of samples */
@@ -27,7 +27,8 @@ typedef struct wp_plan {
     int ndt;
     double rk4_stop;         /* rk4 stops once its error is below this */
     int nmethods;            /* the methods 0 .. nmethods-1 are swept
-                                (5: rk4 to ida; WP_NMETHODS: and esdirk) */
+                                (5: rk4 to ida; WP_NMETHODS: and esdirk
+                                and imex) */
     eom_method ref_method, check_method; /* the reference, its check */
     double ref_rtol, check_rtol; /* their tolerances */
     int rounds;              /* timing rounds: the most repetitions */
