@@ -27,7 +27,9 @@
  *      within 100 times the tolerance; and E + W constant on the damped
  *      ones.
  *   6. Refusals: a model that gives a whole Lagrangian (no V apart), and
- *      sensitivities; messages naming what to use instead.
+ *      sensitivities; messages naming what to use instead. A run into a
+ *      domain error fails with a message naming imex and the last good
+ *      state.
  */
 #include <math.h>
 #include <stdio.h>
@@ -573,6 +575,60 @@ static int lag_L(eom_ctx *c, void *user, tp_val *out)
     return 0;
 }
 
+/* V = sqrt(x): the particle falls towards x = 0, where the force
+ * -1 / (2 sqrt(x)) is infinite and beyond which V is not defined */
+static int fall_T(eom_ctx *c, void *user, tp_val *out)
+{
+    (void)user;
+    *out = tp_mulc(eom_rec(c), tp_sqr(eom_rec(c), eom_qd(c, 0)), 0.5);
+    return 0;
+}
+
+static int fall_V(eom_ctx *c, void *user, tp_val *out)
+{
+    (void)user;
+    *out = tp_mulc(eom_rec(c), tp_sqrt(eom_rec(c), eom_q(c, 0)), 1.0);
+    return 0;
+}
+
+/* A run into a domain error fails with a message naming imex, keeps the
+ * last good state, and stays failed. */
+static void failure(void)
+{
+    eom_model *md = NULL;
+    eom_system *s = NULL;
+    eom_integ *it = NULL;
+    eom_opts o;
+    double x[2] = {1.0, -1.0}, W = 0.0;
+    char msg[256];
+    int rc = EOM_OK, k, rc2;
+    CHECK_INT(eom_model_new(&md), EOM_OK);
+    eom_model_add_coord(md, "x", "m", 1.0, -1.0);
+    eom_model_set_kinetic(md, fall_T, NULL);
+    eom_model_set_potential(md, fall_V, NULL);
+    CHECK_INT(eom_system_new(&s, md, msg, sizeof msg), EOM_OK);
+    eom_model_free(&md);
+    if (!s)
+        return;
+    eom_opts_default(&o);
+    o.method = EOM_IMEX;
+    o.rtol = o.atol = 1e-8;
+    CHECK_INT(eom_integ_new(&it, s, &o, 0.0, x), EOM_OK);
+    for (k = 1; k <= 20 && it && rc == EOM_OK; k++)
+        rc = eom_integ_advance(it, 0.1 * k, x, &W);
+    if (!it)
+        return;
+    printf("into a domain error: %s: %s\n", eom_status_name(rc),
+           eom_integ_errmsg(it));
+    CHECK(rc < 0);
+    CHECK(strncmp(eom_integ_errmsg(it), "imex: ", 6) == 0);
+    CHECK(isfinite(x[0]) && isfinite(x[1]) && x[0] > 0.0);
+    rc2 = eom_integ_advance(it, 10.0, x, &W);
+    CHECK_INT(rc2, rc);
+    eom_integ_free(&it);
+    eom_system_free(&s);
+}
+
 static void refusals(void)
 {
     eom_model *md = NULL;
@@ -644,6 +700,7 @@ int main(int argc, char **argv)
     split_two_mass();
     split_spring_and_fourbar();
     refusals();
+    failure();
     order();
     stiff();
     shipped(argv[1]);
