@@ -1,8 +1,8 @@
 /* test_tolerance.c - every adaptive method keeps its tolerance as a
  * promise about the global error: with rtol = atol = tol for tol = 1e-6,
  * 1e-8, 1e-10 and 1e-12, the state at t = 10 s lies within 100 tol of a
- * reference (max |x - x_ref| over q and qd) for erk, adams, bdf and ida,
- * on three shipped models read from models/:
+ * reference (max |x - x_ref| over q and qd) for erk, adams, bdf, ida,
+ * esdirk and imex, on the shipped models read from models/:
  *
  *   spring-pendulum   reference: the hand-derived equations
  *                       r''  = r th'^2 - (k/m)(r - r0) + g cos th,
