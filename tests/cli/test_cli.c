@@ -537,7 +537,7 @@ static void case_failure(void)
 static void case_methods(void)
 {
     static const char *const methods[] = {"rk4", "erk", "adams", "bdf",
-                                          "ida"};
+                                          "ida", "imex"};
     char path[300];
     const char *args[] = {"spring-pendulum", "--integrator", NULL,
                           "--t-end", "0.2", "-q", "--out", path, NULL};
