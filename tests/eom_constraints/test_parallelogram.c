@@ -25,7 +25,7 @@
  * a second: 40 flat passes in 20 s. A switch to the other assembly branch
  * (the anti-parallelogram) would show as a coupler that turns.
  *
- * rk4, erk and bdf pass. adams and ida cannot by themselves (they
+ * rk4, erk, bdf, esdirk and imex pass. adams and ida cannot by themselves (they
  * project only at output times: adams drifted off the phase, ida's
  * index-1 iteration matrix is singular there and it picked the other
  * branch): they hand each flat pass of the points and relative forms to
@@ -488,10 +488,10 @@ int main(void)
     /* the methods that pass through the flat positions; adams and ida
      * hand them to bdf, and refuse the redundant loop */
     static const eom_method passing[] = {EOM_RK4, EOM_ERK, EOM_BDF,
-                                         EOM_ESDIRK};
+                                         EOM_ESDIRK, EOM_IMEX};
     int m;
     health_regular();
-    for (m = 0; m < 4; m++) {
+    for (m = 0; m < 5; m++) {
         run(ANGLES, passing[m], NT);
         run(POINTS, passing[m], NT);
         run(RELATIVE, passing[m], NT);
