@@ -25,8 +25,9 @@
  * a second: 40 flat passes in 20 s. A switch to the other assembly branch
  * (the anti-parallelogram) would show as a coupler that turns.
  *
- * rk4, erk, bdf, esdirk and imex pass. adams and ida cannot by themselves (they
- * project only at output times: adams drifted off the phase, ida's
+ * rk4, erk, bdf, esdirk and imex pass. adams and ida cannot by
+ * themselves (they project only at output times: adams drifted off the
+ * phase, ida's
  * index-1 iteration matrix is singular there and it picked the other
  * branch): they hand each flat pass of the points and relative forms to
  * bdf and restart after it, and refuse the angles form's redundant loop
