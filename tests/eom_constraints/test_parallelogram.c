@@ -27,11 +27,10 @@
  *
  * rk4, erk, bdf, esdirk and imex pass. adams and ida cannot by
  * themselves (they project only at output times: adams drifted off the
- * phase, ida's
- * index-1 iteration matrix is singular there and it picked the other
- * branch): they hand each flat pass of the points and relative forms to
- * bdf and restart after it, and refuse the angles form's redundant loop
- * at setup, with a message that says why. */
+ * phase, ida's index-1 iteration matrix is singular there and it picked
+ * the other branch): they hand each flat pass of the points and relative
+ * forms to bdf and restart after it, and refuse the angles form's
+ * redundant loop at setup, with a message that says why. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
