@@ -452,8 +452,7 @@ typedef enum eom_method {
 } eom_method;
 
 /* Name as used on the command line ("rk4", "erk", "adams", "bdf", "ida",
- * "esdirk", "imex")
- * and back (-1 for an unknown name). */
+ * "esdirk", "imex") and back (-1 for an unknown name). */
 EOM_API const char *eom_method_name(eom_method m);
 EOM_API int eom_method_from_name(const char *name);
 
@@ -546,8 +545,9 @@ typedef struct eom_stats {
     /* what the error test was given (docs/integrators.md, "What the
      * tolerances mean"): */
     double step_tol;     /* the per-step relative tolerance for rtol:
-                            calibrated for adams, bdf, ida, esdirk and imex, rtol itself
-                            for erk (and with tol_per_step), 0 for rk4 */
+                            calibrated for adams, bdf, ida, esdirk and
+                            imex, rtol itself for erk (and with
+                            tol_per_step), 0 for rk4 */
     double tol_reachable; /* 0, or the tolerance the method keeps
                             instead of a tighter one asked for: its
                             calibration wanted a per-step tolerance below
