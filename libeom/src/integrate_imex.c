@@ -362,6 +362,17 @@ int eom__imex_jacobian(eom_integ *it, double t, const double *y, double *J)
     return imex_jacobian(it, it->impl, t, y, J, it->N);
 }
 
+/* Tests: fixed steps of h (ARKStepSetFixedStep), for the table's order
+ * measured by halving the step. */
+int eom__imex_fixed_step(eom_integ *it, double h)
+{
+    imex *d = it->impl;
+    if (!it->ops || strcmp(it->ops->name, "imex") != 0 || !d || !(h > 0.0))
+        return EOM_ERR_ARG;
+    return ARKStepSetFixedStep(d->mem, h) == ARK_SUCCESS ? EOM_OK
+                                                         : EOM_ERR_SOLVER;
+}
+
 /* With constraints, after each accepted step: project y in place (or only
  * track the residual when projection is off) and watch the assembly
  * branch. */

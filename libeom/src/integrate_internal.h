@@ -225,5 +225,8 @@ extern const eom_integ_ops eom__imex_ops;
 int eom__imex_split(eom_integ *it, double t, const double *y, double *fe,
                     double *fi);
 int eom__imex_jacobian(eom_integ *it, double t, const double *y, double *J);
+/* imex, for tests: take fixed steps of h > 0 from now on (no error
+ * control); EOM_ERR_ARG as above or for a bad h. */
+int eom__imex_fixed_step(eom_integ *it, double h);
 
 #endif /* EOM_INTEGRATE_INTERNAL_H */
