@@ -470,7 +470,7 @@ static void order(void)
         CHECK_INT(run(s, EOM_ERK, 1e-13, 1, 1.0, r1, &st, NULL), EOM_OK);
         eom_opts_default(&o);
         o.method = EOM_IMEX;
-        o.rtol = o.atol = 1e-3;
+        o.rtol = o.atol = 1e-6; /* the Newton iterations' tolerance */
         for (i = 0; i < 4; i++) {
             hs[i] = 1.0 / (100 << i);
             CHECK_INT(eom_initial_state(s, x), EOM_OK);
