@@ -36,8 +36,16 @@ static int start(eom_integ *it)
     eom_integ *b = NULL;
     eom_opts o = it->o;
     int rc;
+    if (it->o.n_sens > 0)
+        /* the sensitivities grow without bound at a singular position:
+         * no run carries them through one */
+        return eom__integ_fail(it, EOM_ERR_RANK_DEFICIENT,
+                               "%s: at t = %.17g: %s; sensitivities are not "
+                               "available through a singular position",
+                               eom_method_name(it->o.method), it->t,
+                               it->msg);
     o.method = EOM_BDF;
-    o.n_sens = 0; /* never with constraints, which hand over */
+    o.n_sens = 0;
     o.max_order = 0;
     o.dt = 0.0;
     o.atol_vec = it->atolv;
