@@ -28,6 +28,9 @@
  *      hold the drift to less than 0.3 of the drift without (measured
  *      6 to 190 times less).
  *   4. At t0 the sensitivities are already tangent (checked with 3).
+ *   5. A parallelogram falling through its flat position: adams and ida
+ *      stop there with a message instead of handing the stretch to bdf;
+ *      bdf passes it.
  */
 #include <math.h>
 #include <stdio.h>
@@ -458,6 +461,48 @@ static void drift(const char *file)
     eom_system_free(&s);
 }
 
+/* 5. A parallelogram (the four-bar with equal cranks, coupler as long
+ * as the ground) falls through its flat position, where C M^-1 C^T is
+ * singular: adams and ida, which would hand the stretch to bdf, stop
+ * there with a message; bdf passes it. */
+static void singular(void)
+{
+    eom_system *s = load("four-bar.eom");
+    static const eom_method stop[] = {EOM_ADAMS, EOM_IDA};
+    int sens[1], k;
+    double x0[6] = {1.2, 0.0, 1.2, 0.0, 0.0, 0.0}, x[6], W;
+    if (!s)
+        return;
+    CHECK_INT(eom_set_param(s, eom_param_index(s, "l3"), 1.0), EOM_OK);
+    sens[0] = eom_param_index(s, "g");
+    for (k = 0; k < 3; k++) {
+        eom_opts o;
+        eom_integ *it = NULL;
+        int rc = EOM_OK, j;
+        eom_opts_default(&o);
+        o.method = k < 2 ? stop[k] : EOM_BDF;
+        o.rtol = 1e-8;
+        o.atol = 1e-10;
+        o.n_sens = 1;
+        o.sens = sens;
+        memcpy(x, x0, sizeof x);
+        CHECK_INT(eom_integ_new(&it, s, &o, 0.0, x), EOM_OK);
+        for (j = 1; it && rc == EOM_OK && j <= 20; j++)
+            rc = eom_integ_advance(it, 0.1 * j, x, &W);
+        if (k < 2) {
+            CHECK_INT(rc, EOM_ERR_RANK_DEFICIENT);
+            if (it && !strstr(eom_integ_errmsg(it),
+                              "not with sensitivities; use bdf"))
+                CHECK_FAIL_("%s: %s", eom_method_name(o.method),
+                            eom_integ_errmsg(it));
+        } else {
+            CHECK_INT(rc, EOM_OK);
+        }
+        eom_integ_free(&it);
+    }
+    eom_system_free(&s);
+}
+
 int main(int argc, char **argv)
 {
     if (argc > 1)
@@ -468,5 +513,6 @@ int main(int argc, char **argv)
     whole_runs("driven-crank.eom", 3, 3, 2.0, 0.0, 0.0);
     drift("four-bar.eom");
     drift("closed-chain.eom");
+    singular();
     CHECK_DONE();
 }
