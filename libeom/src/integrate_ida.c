@@ -84,6 +84,7 @@ typedef struct ida {
     double *swork;             /* eom__sens_work doubles */
     double *cols;              /* [ns x (2n + 1)] directions and rates */
     double *dlam;              /* [ns x m] the multipliers' changes */
+    double *Wsens;             /* [ns] W's sensitivities at the output */
     const double **Vp, **Pp;   /* [ns] pointers: inputs */
     double **Op;               /* [ns] pointers: outputs */
     eom_sun_report rep;        /* why it stopped */
@@ -276,6 +277,7 @@ static void ida_destroy(eom_integ *it)
     free(d->swork);
     free(d->cols);
     free(d->dlam);
+    free(d->Wsens);
     free(d->Vp);
     free(d->Pp);
     free(d->Op);
@@ -355,12 +357,13 @@ static int ida_sens_init(eom_integ *it, ida *d)
     d->swork = malloc(eom__sens_work(it->s, ns) * sizeof(double));
     d->cols = malloc((size_t)ns * 2 * (size_t)it->N * sizeof(double));
     d->dlam = malloc((size_t)ns * (size_t)(m > 0 ? m : 1) * sizeof(double));
+    d->Wsens = malloc((size_t)ns * sizeof(double));
     d->Vp = malloc((size_t)ns * sizeof *d->Vp);
     d->Pp = malloc((size_t)ns * sizeof *d->Pp);
     d->Op = malloc((size_t)ns * sizeof *d->Op);
     pbar = malloc((size_t)ns * sizeof *pbar);
     if (!d->yS || !d->ypS || !d->par || !d->swork || !d->cols ||
-        !d->dlam || !d->Vp || !d->Pp || !d->Op || !pbar) {
+        !d->dlam || !d->Wsens || !d->Vp || !d->Pp || !d->Op || !pbar) {
         free(pbar);
         return eom__integ_nomem(it);
     }
@@ -473,7 +476,7 @@ static double ida_change(eom_integ *it, ida *d)
 
 /* The sensitivities at tout into it->S: IDAS's, with projection on and
  * constraints projected at the projected state d->w (sensitivity.c);
- * W's sensitivities kept in d->dlam (ns) for a restart. A status, with a
+ * W's sensitivities kept in d->Wsens for a restart. A status, with a
  * message in it->msg. */
 static int ida_output_sens(eom_integ *it, ida *d, double tout)
 {
@@ -500,7 +503,7 @@ static int ida_output_sens(eom_integ *it, ida *d, double tout)
     for (k = 0; k < ns; k++) {
         for (i = 0; i < 2 * n; i++)
             it->S[(size_t)i * ns + k] = d->Op[k][i];
-        d->dlam[k] = N_VGetArrayPointer(d->yS[k])[2 * n + m];
+        d->Wsens[k] = N_VGetArrayPointer(d->yS[k])[2 * n + m];
     }
     return EOM_OK;
 }
@@ -524,7 +527,7 @@ static int ida_output(eom_integ *it, ida *d, double tout)
     if (m > 0 && it->o.project && ida_change(it, d) > 1.0) {
         if ((rc = ida_consistent(it, d, tout)) != EOM_OK ||
             (d->ns > 0 &&
-             (rc = ida_sens_consistent(it, d, tout, d->dlam)) != EOM_OK))
+             (rc = ida_sens_consistent(it, d, tout, d->Wsens)) != EOM_OK))
             return eom__integ_fail(it, rc, "ida: %s", it->msg);
         ida_bank(d);
         flag = IDAReInit(d->mem, tout, d->yy, d->yp);
