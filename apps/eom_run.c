@@ -207,10 +207,10 @@ static void help(void)
         "                        constraints, and their eigenvalues "
         "(docs/cli.md)\n"
         "      --sensitivity NAME[,NAME...]\n"
-        "                        with adams or bdf: also the columns "
-        "d(x)/d(NAME) of the\n"
-        "                        sensitivities of every state x to each "
-        "parameter, or\n"
+        "                        with adams, bdf or ida: also the columns "
+        "d(x)/d(NAME) of\n"
+        "                        the sensitivities of every state x to "
+        "each parameter, or\n"
         "                        initial coordinate or rate (NAME_dot), "
         "named\n"
         "  -q, --quiet           no summary, no progress line and no note "
@@ -506,10 +506,11 @@ static int run(cli *c, const demo *d)
         return cli_usage_error("--sensitivity belongs to a run: not with "
                                "--modes, --linearize or --describe");
     if (c->sens_arg && c->opts.method != EOM_ADAMS &&
-        c->opts.method != EOM_BDF)
+        c->opts.method != EOM_BDF && c->opts.method != EOM_IDA)
         return cli_usage_error("--sensitivity: the sensitivities are "
-                               "integrated by --integrator adams or bdf, "
-                               "not %s", eom_method_name(c->opts.method));
+                               "integrated by --integrator adams, bdf or "
+                               "ida, not %s",
+                               eom_method_name(c->opts.method));
     if ((c->modes || c->linearize) && (c->plots || c->out))
         return cli_usage_error("--%s prints to standard output and runs "
                                "nothing: --out and --plots belong to a run",
@@ -557,12 +558,6 @@ static int run(cli *c, const demo *d)
     }
     if (c->sens_arg && (rc = sensitivity_arg(c, s)) != 0) {
         status = rc;
-        goto done;
-    }
-    if (c->sens_arg && eom_system_nconstraints(s) > 0) {
-        fprintf(stderr, "eom-run: %s: --sensitivity: sensitivities of a "
-                "model with constraints are not available "
-                "(docs/integrators.md, \"Sensitivities\")\n", d->name);
         goto done;
     }
     if (c->compiled)

@@ -178,9 +178,12 @@ int eom_run(eom_system *s, const double *x0, const eom_run_opts *p,
         fprintf(stderr, "%s: %s\n", PROG(p), r.err);
         goto done;
     }
-    if (emit(&r, 0.0, x, 0.0) != 0)
+    /* the start's row; with sensitivities after the integrator is made,
+     * which gives theirs (with constraints, taken onto the tangent
+     * space: not the unit vectors) */
+    if (p->opts.n_sens == 0 && emit(&r, 0.0, x, 0.0) != 0)
         goto done;
-    if (K > 0 || !exact) {
+    if (K > 0 || !exact || p->opts.n_sens > 0) {
         if (eom_integ_new(&it, s, &p->opts, 0.0, x) != EOM_OK) {
             fprintf(stderr, "%s: %s: cannot start the %s integrator: "
                     "%s\n", PROG(p), LABEL(p), eom_method_name(p->opts.method),
@@ -189,6 +192,8 @@ int eom_run(eom_system *s, const double *x0, const eom_run_opts *p,
         }
         r.it = it;
     }
+    if (p->opts.n_sens > 0 && emit(&r, 0.0, x, 0.0) != 0)
+        goto done;
     for (k = 1; k <= K; k++) {
         const double tout = (double)k * p->sample;
         if (step_to(&r, it, tprev, tout, x, &W) != 0)

@@ -229,6 +229,42 @@ int eom__sens_rhs(eom_system *s, double t, const double *x, int evaluated,
                   int ns, const int *par, const double *const *V,
                   double *const *out, double *work);
 size_t eom__sens_work(const eom_system *s, int ns);
+/* residual.c: eom__sens_rhs, and with dlam (m x ns, column k at
+ * dlam + k m; may be NULL) the multipliers' changes d lambda along each
+ * direction too (IDAS's consistent starts, integrate_ida.c). */
+int eom__sens_rates(eom_system *s, double t, const double *x, int evaluated,
+                    int ns, const int *par, const double *const *V,
+                    double *const *out, double *dlam, double *work);
+/* residual.c: the residual tape's workspace made and its independents z
+ * = (x, qdd, lambda, t, p) in s->jz, for sweeps of s->tRes.ws at z:
+ * eom__residual_z at the given qdd and lambda, without evaluating the
+ * model; eom__residual_at after an evaluation at (t, x), whose qdd and
+ * lambda it takes (s then holds that evaluation's factors). */
+int eom__residual_z(eom_system *s, double t, const double *x,
+                    const double *qdd, const double *lam);
+int eom__residual_at(eom_system *s, double t, const double *x);
+/* sensitivity.c: the linearized projection of ns sensitivities V_k
+ * (2n values for (q, qd) each, changed in place; par[k] the parameter of
+ * direction k or -1) at a state x = (q, qd) on the constraints at t:
+ *     V_q <- V_q - Y S^-1 (C V_q + dphi/dp e),
+ *     V_v <- V_v - Y S^-1 (d(phi1)/dq V_q + C V_v + d(phi1)/dp e)
+ * with phi1 = C qd + dphi/dt, Y = W^-1 C^T, S = C W^-1 C^T: the
+ * derivative of the projection of least W-norm, W = M at x (identity 0:
+ * after the integrators' projections) or I (identity 1: the start's,
+ * eom_project_start). Leaves s evaluated at (t, x) (with identity, its
+ * factor of M replaced). work: eom__sens_work(s, ns) doubles. */
+int eom__sens_project(eom_system *s, double t, const double *x, int identity,
+                      int ns, const int *par, double *const *V,
+                      double *work);
+/* sensitivity.c: the residuals of IDAS's sensitivity equations at
+ * (t, Y, Y') for Y = (q, v, lambda, W) (integrate_ida.c): for each
+ * direction k, RS_k = dG/dY YS_k + dG/dY' YpS_k + dG/dp e_par[k], exact
+ * from one forward sweep of the residual tape with ns directions. work:
+ * eom__sens_work(s, ns) doubles. */
+int eom__sens_dae_res(eom_system *s, double t, const double *Y,
+                      const double *Yp, int ns, const int *par,
+                      const double *const *YS, const double *const *YpS,
+                      double *const *RS, double *work);
 /* residual.c: the residual tape's Jacobian at z = (x, qdd, lambda, t) over
  * (q, qd, qdd, lambda): J row-major, n + 3m + 1 rows (E, phi2, phi1,
  * phi0, P) by 3n + m columns. */

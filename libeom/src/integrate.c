@@ -351,14 +351,11 @@ static int check_sens(const eom_opts *o, const eom_system *s, char *msg,
                  o->sens ? "a" : "a NULL");
         return o->sens ? EOM_ERR_ARG : EOM_ERR_NULL;
     }
-    if (o->method != EOM_ADAMS && o->method != EOM_BDF) {
+    if (o->method != EOM_ADAMS && o->method != EOM_BDF &&
+        o->method != EOM_IDA) {
         snprintf(msg, len, "sensitivities are integrated by adams and bdf "
-                 "(CVODES), not by %s", eom_method_name(o->method));
-        return EOM_ERR_ARG;
-    }
-    if (s->m > 0) {
-        snprintf(msg, len, "sensitivities of a model with constraints are "
-                 "not available (docs/integrators.md, \"Sensitivities\")");
+                 "(CVODES) and ida (IDAS), not by %s",
+                 eom_method_name(o->method));
         return EOM_ERR_ARG;
     }
     for (k = 0; k < o->n_sens; k++)
@@ -369,6 +366,47 @@ static int check_sens(const eom_opts *o, const eom_system *s, char *msg,
             return EOM_ERR_ARG;
         }
     return EOM_OK;
+}
+
+/* With constraints, the sensitivities at t0 are those of the start
+ * taken onto the constraints by the least change of the coordinates
+ * (eom_project_start; eom-run starts there): the unit vectors of the
+ * initial values and the zeros of the parameters, projected with the
+ * linearized projection (sensitivity.c), so that a parameter of the
+ * constraints moves the start with it. s then forgets the evaluation, so
+ * that the run itself is the same as without sensitivities. */
+static int sens_start(eom_integ *it)
+{
+    eom_system *s = it->s;
+    const int ns = it->o.n_sens, n2 = 2 * s->n;
+    double *cols = malloc((size_t)n2 * (size_t)ns * sizeof *cols);
+    double **V = malloc((size_t)ns * sizeof *V);
+    double *work = malloc(eom__sens_work(s, ns) * sizeof *work);
+    int *par = malloc((size_t)ns * sizeof *par);
+    int i, k, rc = EOM_ERR_NOMEM;
+    if (cols && V && work && par) {
+        for (k = 0; k < ns; k++) {
+            V[k] = cols + (size_t)k * n2;
+            par[k] = it->sens[k] < s->np ? it->sens[k] : -1;
+            for (i = 0; i < n2; i++)
+                V[k][i] = it->S[(size_t)i * ns + k];
+        }
+        rc = eom__sens_project(s, it->t, it->y, 1, ns, par, V, work);
+        eom__forget(s);
+        for (k = 0; rc == EOM_OK && k < ns; k++)
+            for (i = 0; i < n2; i++)
+                it->S[(size_t)i * ns + k] = V[k][i];
+        if (rc != EOM_OK)
+            snprintf(it->msg, sizeof it->msg,
+                     "the sensitivities at the start: %s", s->msg);
+    } else {
+        snprintf(it->msg, sizeof it->msg, "out of memory");
+    }
+    free(cols);
+    free(V);
+    free(work);
+    free(par);
+    return rc;
 }
 
 int eom__integ_create(eom_integ **out, eom_system *s, const eom_opts *o,
@@ -441,7 +479,9 @@ int eom__integ_create(eom_integ **out, eom_system *s, const eom_opts *o,
     it->svd_base = s->n_svd;
     it->refuse_singular =
         s->m > 0 && (o->method == EOM_ADAMS || o->method == EOM_IDA);
-    rc = it->ops->init(it);
+    rc = s->m > 0 && o->n_sens > 0 ? sens_start(it) : EOM_OK;
+    if (rc == EOM_OK)
+        rc = it->ops->init(it);
     if (rc == EOM_OK && fresh && it->refuse_singular) {
         /* refused at setup where the start already shows it */
         double *yd = malloc((size_t)it->N * sizeof(double));

@@ -27,16 +27,23 @@
  *          weights being > 1. Smaller corrections stay out of the solver.
  * CVodeReInit zeroes CVODE's counters; they are banked first.
  *
- * Sensitivities (eom_opts.n_sens, models without constraints): CVODES
- * integrates them beside the state, staggered, with the state's
- * tolerances scaled by each parameter's size (CVodeSensEEtolerances,
- * pbar = |p|, 1 for an initial value) for their corrector, and out of the
- * error test: the steps are the state's. In the error test they doubled
- * the steps of bench-sensitivity's open chain and changed the agreement
- * with differences of whole runs not at all (1.4e-7); their right-hand
- * sides are exact (cv_sens_rhs, residual.c). Adams solves
- * them by fixed point as it does the state; BDF by Newton with the same
- * linear solver.
+ * Sensitivities (eom_opts.n_sens): CVODES integrates them beside the
+ * state, staggered, with the state's tolerances scaled by each
+ * parameter's size (CVodeSensEEtolerances, pbar = |p|, 1 for an initial
+ * value) for their corrector, and out of the error test: the steps are
+ * the state's. In the error test they doubled the steps of
+ * bench-sensitivity's open chain and changed the agreement with
+ * differences of whole runs not at all (1.4e-7); their right-hand sides
+ * are exact (cv_sens_rhs, residual.c), the multipliers' changes and the
+ * Baumgarte terms included. Adams solves them by fixed point as it does
+ * the state; BDF by Newton with the same linear solver. With
+ * constraints they start tangent to them (integrate.c), CVODES does not
+ * project them with the state inside the solver, and at output times
+ * they are projected with the linearized projection at the projected
+ * state (sensitivity.c), so that the caller's are the derivatives of the
+ * projected state; Adams's restart from the projected state restarts
+ * them from theirs (CVodeSensReInit), as does BDF's retry with a loose
+ * floor from its last step's.
  *
  * Callbacks return 0, +1 for EOM_ERR_NONFINITE (CVODE retries with a
  * smaller step) and -1 otherwise, and keep the status and message of the
@@ -98,7 +105,9 @@ static int cv_cb_result(eom_integ *it, cvode *c, int rc)
 /* With sensitivities: remember where the system was evaluated last, so
  * that their right-hand side at the same state does not evaluate again.
  * Only cv_rhs and cv_sens_rhs evaluate a model without constraints
- * between, and cv_jac, which forgets it. */
+ * between, and cv_jac, which forgets it; with constraints the
+ * projection, the branch check and the output's projection change s's
+ * factors too, and forget it as well. */
 static void cv_remember(cvode *c, int ok, double t, const double *y, int N)
 {
     c->have_last = ok && c->ylast;
@@ -201,6 +210,7 @@ static int cv_project(sunrealtype t, N_Vector ycur, N_Vector corr,
     const double t_out = it->t;
     int i, rc;
     (void)epsProj;
+    c->have_last = 0; /* the projection changes s's factors */
     memcpy(c->w, y, (size_t)it->N * sizeof(double));
     it->t = t;
     rc = eom__integ_project(it, c->w);
@@ -341,10 +351,13 @@ static int cv_sens_init(eom_integ *it, cvode *c)
     for (k = 0; k < ns; k++) {
         const int w = it->sens[k];
         double *v = N_VGetArrayPointer(c->yS[k]);
+        int i;
+        /* from the sensitivities at it->t (a restart after a singular
+         * stretch starts from them too); W's is 0 */
         memset(v, 0, (size_t)it->N * sizeof(double));
+        for (i = 0; i < 2 * it->n; i++)
+            v[i] = it->S[(size_t)i * ns + k];
         c->par[k] = w < np ? w : -1;
-        if (w >= np)
-            v[w - np] = 1.0;
         pbar[k] = w < np && it->s->pval[w] != 0.0 ? fabs(it->s->pval[w])
                                                   : 1.0;
     }
@@ -433,6 +446,33 @@ static void cv_bank(cvode *c)
     c->banked_fails += netf + ncfn;
 }
 
+/* The sensitivities at tout into c->yS and it->S, with projection on
+ * and constraints projected at the projected state c->w (their W row
+ * untouched). A status, with a message in it->msg. */
+static int cv_output_sens(eom_integ *it, cvode *c, double tout)
+{
+    sunrealtype ts;
+    int flag, rc, k, i;
+    if ((flag = CVodeGetSens(c->mem, &ts, c->yS)) < 0)
+        return cv_setup_failed(it, flag, "CVodeGetSens");
+    for (k = 0; k < c->ns; k++)
+        c->Op[k] = N_VGetArrayPointer(c->yS[k]);
+    if (it->s->m > 0 && it->o.project) {
+        c->have_last = 0;
+        rc = eom__sens_project(it->s, tout, c->w, 0, c->ns, c->par, c->Op,
+                               c->swork);
+        if (rc != EOM_OK) {
+            snprintf(it->msg, sizeof it->msg, "at t = %.17g: %s", tout,
+                     it->s->msg);
+            return rc;
+        }
+    }
+    for (k = 0; k < c->ns; k++)
+        for (i = 0; i < 2 * it->n; i++)
+            it->S[(size_t)i * c->ns + k] = c->Op[k][i];
+    return EOM_OK;
+}
+
 /* At tout, with the solver's state in c->y: the state for the caller,
  * projected (or only its residual tracked) when the system has
  * constraints, and for Adams a restart from it when the drift exceeds the
@@ -441,7 +481,7 @@ static int cv_output(eom_integ *it, cvode *c, double tout)
 {
     const int N = it->N;
     double *y = N_VGetArrayPointer(c->y);
-    int rc, flag, i;
+    int rc, flag, i, restart = 0;
     it->t = tout;
     memcpy(c->w, y, (size_t)N * sizeof(double));
     if (it->s->m > 0 && (rc = eom__integ_project(it, c->w)) != EOM_OK)
@@ -454,30 +494,25 @@ static int cv_output(eom_integ *it, cvode *c, double tout)
             const double d = (c->w[i] - y[i]) * ewt[i];
             sum += d * d;
         }
-        if (sqrt(sum / N) > 1.0) {
-            cv_bank(c);
-            memcpy(y, c->w, (size_t)N * sizeof(double));
-            if ((flag = CVodeReInit(c->mem, tout, c->y)) < 0) {
-                rc = cv_setup_failed(it, flag, "CVodeReInit");
-                return eom__integ_fail(it, rc, "%s: %s", cv_name(it),
-                                       it->msg);
-            }
+        restart = sqrt(sum / N) > 1.0;
+    }
+    /* the sensitivities, before a restart replaces them: with projection,
+     * the derivative of the projected state (sensitivity.c) */
+    if (c->ns > 0 && (rc = cv_output_sens(it, c, tout)) != EOM_OK)
+        return eom__integ_fail(it, rc, "%s: %s", cv_name(it), it->msg);
+    if (restart) {
+        cv_bank(c);
+        memcpy(y, c->w, (size_t)N * sizeof(double));
+        flag = CVodeReInit(c->mem, tout, c->y);
+        if (flag >= 0 && c->ns > 0)
+            flag = CVodeSensReInit(c->mem, CV_STAGGERED, c->yS);
+        if (flag < 0) {
+            rc = cv_setup_failed(it, flag, c->ns > 0 ? "CVodeSensReInit"
+                                                     : "CVodeReInit");
+            return eom__integ_fail(it, rc, "%s: %s", cv_name(it), it->msg);
         }
     }
     memcpy(it->y, c->w, (size_t)N * sizeof(double));
-    if (c->ns > 0) {
-        sunrealtype ts;
-        int k;
-        if ((flag = CVodeGetSens(c->mem, &ts, c->yS)) < 0) {
-            rc = cv_setup_failed(it, flag, "CVodeGetSens");
-            return eom__integ_fail(it, rc, "%s: %s", cv_name(it), it->msg);
-        }
-        for (k = 0; k < c->ns; k++) {
-            const double *v = N_VGetArrayPointer(c->yS[k]);
-            for (i = 0; i < 2 * it->n; i++)
-                it->S[(size_t)i * c->ns + k] = v[i];
-        }
-    }
     return EOM_OK;
 }
 
@@ -496,11 +531,17 @@ static void cv_floor(eom_integ *it, int loose)
  * loose one. Returns a status. */
 static int cv_retry_loose(eom_integ *it, cvode *c, double tret, double tout)
 {
+    sunrealtype ts;
     int flag;
     cv_bank(c);
     cv_floor(it, 1);
+    /* the sensitivities of the last accepted step go on with it */
+    if (c->ns > 0 && (flag = CVodeGetSens(c->mem, &ts, c->yS)) < 0)
+        return cv_setup_failed(it, flag, "CVodeGetSens");
     if ((flag = CVodeReInit(c->mem, tret, c->y)) < 0)
         return cv_setup_failed(it, flag, "CVodeReInit");
+    if (c->ns > 0 && (flag = CVodeSensReInit(c->mem, CV_STAGGERED, c->yS)) < 0)
+        return cv_setup_failed(it, flag, "CVodeSensReInit");
     if ((flag = CVodeSetStopTime(c->mem, tout)) < 0)
         return cv_setup_failed(it, flag, "CVodeSetStopTime");
     eom__sun_report_reset(&c->rep);
@@ -525,6 +566,7 @@ static int cv_advance(eom_integ *it, double tout)
         const int bdf = it->o.method == EOM_BDF;
         do {
             flag = CVode(c->mem, tout, c->y, &tret, CV_ONE_STEP);
+            c->have_last = 0; /* the checks below evaluate s */
             if (flag < 0 && bdf && !it->loose_floor &&
                 (flag == CV_ERR_FAILURE || flag == CV_CONV_FAILURE) &&
                 it->s->rcond_S < 1e-2) {

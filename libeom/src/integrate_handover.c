@@ -36,8 +36,22 @@ static int start(eom_integ *it)
     eom_integ *b = NULL;
     eom_opts o = it->o;
     int rc;
+    if (it->o.n_sens > 0)
+        /* the sensitivities grow without bound at a singular position;
+         * the stretch's bdf would have to take them over and hand them
+         * back, which is not done */
+        return eom__integ_fail(it, EOM_ERR_RANK_DEFICIENT,
+                               "%s: at t = %.17g the constraint system is "
+                               "singular or nearly so (rcond of C M^-1 C^T "
+                               "%.2g), where sensitivities grow without "
+                               "bound: %s hands such a stretch to bdf, but "
+                               "not with sensitivities; use bdf, which "
+                               "integrates them through it "
+                               "(docs/integrators.md, \"Sensitivities\")",
+                               eom_method_name(it->o.method), it->t_refused,
+                               it->s->rcond_S, eom_method_name(it->o.method));
     o.method = EOM_BDF;
-    o.n_sens = 0; /* never with constraints, which hand over */
+    o.n_sens = 0;
     o.max_order = 0;
     o.dt = 0.0;
     o.atol_vec = it->atolv;

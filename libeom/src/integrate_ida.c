@@ -1,5 +1,6 @@
-/* integrate_ida.c - EOM_IDA: IDA (variable-order BDF for implicit DAEs,
- * Newton iteration, dense direct linear solver) on the index-1 form of
+/* integrate_ida.c - EOM_IDA: IDA, from IDAS (IDA with forward
+ * sensitivities; variable-order BDF for implicit DAEs, Newton iteration,
+ * dense direct linear solver) on the index-1 form of
  * Lagrange's equations, with the exact iteration matrix dG/dY + cj dG/dY'
  * from the residual tape (ida_jac), or with eom_opts.dq_jacobian IDA's
  * difference quotients, kept as a reference.
@@ -32,6 +33,18 @@
  * IDAReInit zeroes IDA's counters; they are banked first. Baumgarte
  * stabilization (eom_set_baumgarte) is the alternative, the user's choice.
  *
+ * Sensitivities (eom_opts.n_sens) are IDAS's: its staggered corrector
+ * with the state's linear solver, the state's tolerances scaled by each
+ * parameter's size (IDASensEEtolerances, pbar = |p|), and, unlike
+ * CVODES's, in the error test (ida_sens_init says why). Their residuals are exact, one
+ * forward sweep of the residual tape (ida_sens_res, sensitivity.c),
+ * lambda's sensitivities included; their start is consistent: lambda's
+ * and Y''s sensitivities from the sensitivities' right-hand sides
+ * (ida_sens_consistent), at t0 and after every restart, which restarts
+ * them from their projection (IDASensReInit). At output times they are
+ * projected with the linearized projection at the projected state
+ * (sensitivity.c).
+ *
  * Output times: the stop time is tout, so the state returned is a step
  * result. rhs_evals counts residual evaluations (each one evaluation of
  * the model), including those of the difference-quotient Jacobian.
@@ -42,8 +55,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <ida/ida.h>
-#include <ida/ida_ls.h>
+#include <idas/idas.h>
+#include <idas/idas_ls.h>
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
 #include <sunlinsol/sunlinsol_dense.h>
@@ -65,6 +78,15 @@ typedef struct ida {
                                                      restart */
     int jacs_stale;            /* IDA keeps its old Jacobian count until
                                   the first solve after a restart */
+    int ns;                    /* sensitivities (IDAS) */
+    N_Vector *yS, *ypS;        /* [ns] theirs, of Y and Y' */
+    int *par;                  /* [ns] parameter index, or -1 */
+    double *swork;             /* eom__sens_work doubles */
+    double *cols;              /* [ns x (2n + 1)] directions and rates */
+    double *dlam;              /* [ns x m] the multipliers' changes */
+    double *Wsens;             /* [ns] W's sensitivities at the output */
+    const double **Vp, **Pp;   /* [ns] pointers: inputs */
+    double **Op;               /* [ns] pointers: outputs */
     eom_sun_report rep;        /* why it stopped */
 } ida;
 
@@ -147,6 +169,34 @@ static int ida_jac(sunrealtype t, sunrealtype cj, N_Vector yy, N_Vector yp,
     return ida_cb_result(it, d, rc);
 }
 
+/* The sensitivities' residuals dG/dY yS + dG/dY' ypS + dG/dp, exact from
+ * the residual tape (sensitivity.c). */
+static int ida_sens_res(int ns, sunrealtype t, N_Vector yy, N_Vector yp,
+                        N_Vector rr, N_Vector *yS, N_Vector *ypS,
+                        N_Vector *rS, void *user, N_Vector t1, N_Vector t2,
+                        N_Vector t3)
+{
+    eom_integ *it = user;
+    ida *d = it->impl;
+    int k, rc;
+    (void)rr;
+    (void)t1;
+    (void)t2;
+    (void)t3;
+    for (k = 0; k < ns; k++) {
+        d->Vp[k] = N_VGetArrayPointer(yS[k]);
+        d->Pp[k] = N_VGetArrayPointer(ypS[k]);
+        d->Op[k] = N_VGetArrayPointer(rS[k]);
+    }
+    rc = eom__sens_dae_res(it->s, t, N_VGetArrayPointer(yy),
+                           N_VGetArrayPointer(yp), ns, d->par, d->Vp, d->Pp,
+                           d->Op, d->swork);
+    if (rc != EOM_OK)
+        snprintf(it->msg, sizeof it->msg, "at t = %.17g: %s", t,
+                 it->s->msg);
+    return ida_cb_result(it, d, rc);
+}
+
 /* A failed setup call: a status and a message naming it. */
 static int ida_setup_failed(eom_integ *it, int flag, const char *call)
 {
@@ -173,12 +223,64 @@ static int ida_consistent(eom_integ *it, ida *d, double t)
     return EOM_OK;
 }
 
+/* Consistent sensitivities at the state d->w at t from it->S (their q
+ * and v parts) and W's sensitivities in Wsens (ns; NULL: 0): lambda's
+ * and the rates' from the right-hand sides of the sensitivities
+ * (residual.c), as ida_consistent does for the state. */
+static int ida_sens_consistent(eom_integ *it, ida *d, double t,
+                               const double *Wsens)
+{
+    const int n = it->n, m = it->s->m, ns = d->ns, N = it->N;
+    int i, k, rc;
+    for (k = 0; k < ns; k++) {
+        double *v = d->cols + (size_t)k * 2 * N;
+        for (i = 0; i < 2 * n; i++)
+            v[i] = it->S[(size_t)i * ns + k];
+        v[2 * n] = Wsens ? Wsens[k] : 0.0;
+        d->Vp[k] = v;
+        d->Op[k] = v + N;
+    }
+    rc = eom__sens_rates(it->s, t, d->w, 0, ns, d->par, d->Vp, d->Op,
+                         d->dlam, d->swork);
+    if (rc != EOM_OK) {
+        snprintf(it->msg, sizeof it->msg, "at t = %.17g: %s", t,
+                 it->s->msg);
+        return rc;
+    }
+    for (k = 0; k < ns; k++) {
+        double *Y = N_VGetArrayPointer(d->yS[k]);
+        double *P = N_VGetArrayPointer(d->ypS[k]);
+        const double *v = d->Vp[k], *r = d->Op[k];
+        memcpy(Y, v, 2 * (size_t)n * sizeof(double));
+        memcpy(P, r, 2 * (size_t)n * sizeof(double));
+        if (m > 0)
+            memcpy(Y + 2 * n, d->dlam + (size_t)k * m,
+                   (size_t)m * sizeof(double));
+        memset(P + 2 * n, 0, (size_t)m * sizeof(double));
+        Y[2 * n + m] = v[2 * n];
+        P[2 * n + m] = r[2 * n];
+    }
+    return EOM_OK;
+}
+
 static void ida_destroy(eom_integ *it)
 {
     ida *d = it->impl;
     if (!d)
         return;
     IDAFree(&d->mem);
+    if (d->yS)
+        N_VDestroyVectorArray(d->yS, d->ns);
+    if (d->ypS)
+        N_VDestroyVectorArray(d->ypS, d->ns);
+    free(d->par);
+    free(d->swork);
+    free(d->cols);
+    free(d->dlam);
+    free(d->Wsens);
+    free(d->Vp);
+    free(d->Pp);
+    free(d->Op);
     if (d->LS)
         SUNLinSolFree(d->LS);
     if (d->A)
@@ -240,6 +342,59 @@ static int ida_setup(eom_integ *it, ida *d)
     return EOM_OK;
 }
 
+/* IDAS's sensitivities: consistent starts from it->S, the scales of
+ * their tolerances (pbar = |p|, 1 for an initial value), and in the
+ * error test. */
+static int ida_sens_init(eom_integ *it, ida *d)
+{
+    const int ns = it->o.n_sens, np = it->s->np, m = it->s->m;
+    double *pbar;
+    int k, flag, rc;
+    d->ns = ns;
+    d->yS = N_VCloneVectorArray(ns, d->yy);
+    d->ypS = N_VCloneVectorArray(ns, d->yy);
+    d->par = malloc((size_t)ns * sizeof *d->par);
+    d->swork = malloc(eom__sens_work(it->s, ns) * sizeof(double));
+    d->cols = malloc((size_t)ns * 2 * (size_t)it->N * sizeof(double));
+    d->dlam = malloc((size_t)ns * (size_t)(m > 0 ? m : 1) * sizeof(double));
+    d->Wsens = malloc((size_t)ns * sizeof(double));
+    d->Vp = malloc((size_t)ns * sizeof *d->Vp);
+    d->Pp = malloc((size_t)ns * sizeof *d->Pp);
+    d->Op = malloc((size_t)ns * sizeof *d->Op);
+    pbar = malloc((size_t)ns * sizeof *pbar);
+    if (!d->yS || !d->ypS || !d->par || !d->swork || !d->cols ||
+        !d->dlam || !d->Wsens || !d->Vp || !d->Pp || !d->Op || !pbar) {
+        free(pbar);
+        return eom__integ_nomem(it);
+    }
+    for (k = 0; k < ns; k++) {
+        const int w = it->sens[k];
+        d->par[k] = w < np ? w : -1;
+        pbar[k] = w < np && it->s->pval[w] != 0.0 ? fabs(it->s->pval[w])
+                                                  : 1.0;
+    }
+    if ((rc = ida_sens_consistent(it, d, it->t, NULL)) != EOM_OK) {
+        free(pbar);
+        return rc;
+    }
+    flag = IDASensInit(d->mem, ns, IDA_STAGGERED, ida_sens_res, d->yS,
+                       d->ypS);
+    if (flag >= 0)
+        flag = IDASetSensParams(d->mem, NULL, pbar, NULL);
+    free(pbar);
+    if (flag < 0)
+        return ida_setup_failed(it, flag, "IDASensInit");
+    if ((flag = IDASensEEtolerances(d->mem)) < 0)
+        return ida_setup_failed(it, flag, "IDASensEEtolerances");
+    /* in the error test, unlike CVODES's: left out of it, the
+     * sensitivities of the four-bar at rtol 1e-5 grew without bound from
+     * t = 2.5 (to 3.5e5 at t = 5, against 24.76), while the state's
+     * were accurate */
+    if ((flag = IDASetSensErrCon(d->mem, SUNTRUE)) < 0)
+        return ida_setup_failed(it, flag, "IDASetSensErrCon");
+    return EOM_OK;
+}
+
 static int ida_init(eom_integ *it)
 {
     ida *d = calloc(1, sizeof *d);
@@ -280,7 +435,9 @@ static int ida_init(eom_integ *it)
         return ida_setup_failed(it, flag, "IDASetErrHandlerFn");
     if ((flag = IDAInit(d->mem, ida_res, it->t, d->yy, d->yp)) < 0)
         return ida_setup_failed(it, flag, "IDAInit");
-    return ida_setup(it, d);
+    if ((rc = ida_setup(it, d)) != EOM_OK)
+        return rc;
+    return it->o.n_sens > 0 ? ida_sens_init(it, d) : EOM_OK;
 }
 
 /* Counters that IDAReInit is about to zero. */
@@ -317,6 +474,40 @@ static double ida_change(eom_integ *it, ida *d)
     return sqrt(sum / N);
 }
 
+/* The sensitivities at tout into it->S: IDAS's, with projection on and
+ * constraints projected at the projected state d->w (sensitivity.c);
+ * W's sensitivities kept in d->Wsens for a restart. A status, with a
+ * message in it->msg. */
+static int ida_output_sens(eom_integ *it, ida *d, double tout)
+{
+    const int n = it->n, m = it->s->m, ns = d->ns;
+    sunrealtype ts;
+    int flag, rc, k, i;
+    if ((flag = IDAGetSens(d->mem, &ts, d->yS)) < 0)
+        return ida_setup_failed(it, flag, "IDAGetSens");
+    for (k = 0; k < ns; k++) {
+        double *v = d->cols + (size_t)k * 2 * it->N;
+        const double *y = N_VGetArrayPointer(d->yS[k]);
+        memcpy(v, y, 2 * (size_t)n * sizeof(double));
+        d->Op[k] = v;
+    }
+    if (m > 0 && it->o.project) {
+        rc = eom__sens_project(it->s, tout, d->w, 0, ns, d->par, d->Op,
+                               d->swork);
+        if (rc != EOM_OK) {
+            snprintf(it->msg, sizeof it->msg, "at t = %.17g: %s", tout,
+                     it->s->msg);
+            return rc;
+        }
+    }
+    for (k = 0; k < ns; k++) {
+        for (i = 0; i < 2 * n; i++)
+            it->S[(size_t)i * ns + k] = d->Op[k][i];
+        d->Wsens[k] = N_VGetArrayPointer(d->yS[k])[2 * n + m];
+    }
+    return EOM_OK;
+}
+
 /* At tout, with the solver's state in d->yy: the state for the caller,
  * projected (or only its residual tracked) when the system has
  * constraints, and a restart from it when the drift exceeds the local
@@ -331,12 +522,20 @@ static int ida_output(eom_integ *it, ida *d, double tout)
     d->w[2 * n] = Y[2 * n + m];
     if (m > 0 && (rc = eom__integ_project(it, d->w)) != EOM_OK)
         return eom__integ_fail(it, rc, "ida: %s", it->msg);
+    if (d->ns > 0 && (rc = ida_output_sens(it, d, tout)) != EOM_OK)
+        return eom__integ_fail(it, rc, "ida: %s", it->msg);
     if (m > 0 && it->o.project && ida_change(it, d) > 1.0) {
-        if ((rc = ida_consistent(it, d, tout)) != EOM_OK)
+        if ((rc = ida_consistent(it, d, tout)) != EOM_OK ||
+            (d->ns > 0 &&
+             (rc = ida_sens_consistent(it, d, tout, d->Wsens)) != EOM_OK))
             return eom__integ_fail(it, rc, "ida: %s", it->msg);
         ida_bank(d);
-        if ((flag = IDAReInit(d->mem, tout, d->yy, d->yp)) < 0) {
-            rc = ida_setup_failed(it, flag, "IDAReInit");
+        flag = IDAReInit(d->mem, tout, d->yy, d->yp);
+        if (flag >= 0 && d->ns > 0)
+            flag = IDASensReInit(d->mem, IDA_STAGGERED, d->yS, d->ypS);
+        if (flag < 0) {
+            rc = ida_setup_failed(it, flag, d->ns > 0 ? "IDASensReInit"
+                                                      : "IDAReInit");
             return eom__integ_fail(it, rc, "ida: %s", it->msg);
         }
     }

@@ -478,11 +478,12 @@ int eom__dae_jacobian(eom_system *s, double t, const double *Y,
  * row-major (n + 3m + 1) x count, at fixed qdd and lambda), the changes
  * of the accelerations X = M^-1 (C^T Lam - dE) with
  * Lam = S^-1 (C M^-1 dE - dK), into rows n .. 2n-1 of column j of out
- * (out + j * ldo), and with with_power -dP into row 2n. Bw: n x count
- * scratch. Uses the factors of the evaluation at x. */
+ * (out + j * ldo), and with with_power -dP into row 2n; Lam_j into
+ * Lam + j * m when Lam is not NULL. Bw: n x count scratch. Uses the
+ * factors of the evaluation at x. */
 static int finish_columns(eom_system *s, const double *x, const double *Jr,
                           int count, double *Bw, double *out, int ldo,
-                          int with_power)
+                          int with_power, double *Lam)
 {
     const int n = s->n, m = s->m;
     const double *qd = x + n;
@@ -516,6 +517,8 @@ static int finish_columns(eom_system *s, const double *x, const double *Jr,
             for (k = 0; k < m; k++)
                 for (i = 0; i < n; i++)
                     col[n + i] += s->Y[(size_t)k * n + i] * lam[k];
+            if (Lam)
+                memcpy(Lam + (size_t)j * m, lam, (size_t)m * sizeof *lam);
         }
         if (with_power) {
             double dP = Jr[(size_t)(n + 3 * m) * count + j];
@@ -576,12 +579,41 @@ static int xd_columns(eom_system *s, double t, const double *x, int first,
         for (i = 0; i < n; i++)
             A[(size_t)j * (size_t)lda + (size_t)i] =
                 first == 0 && i + n == j ? 1.0 : 0.0;
-    return finish_columns(s, x, s->jres, count, s->jB, A, lda, with_power);
+    return finish_columns(s, x, s->jres, count, s->jB, A, lda, with_power,
+                          NULL);
+}
+
+int eom__residual_z(eom_system *s, double t, const double *x,
+                    const double *qdd, const double *lam)
+{
+    int rc;
+    if ((rc = jac_ready(s)) != EOM_OK)
+        return rc;
+    if (!isfinite(t) || !eom__finite(x, 2 * (size_t)s->n) ||
+        !eom__finite(qdd, (size_t)s->n) ||
+        !eom__finite(lam, (size_t)s->m))
+        return eom__fail(s, EOM_ERR_NONFINITE,
+                         "the state at t = %g is not finite", t);
+    fill_z(s, t, x, qdd, lam);
+    return EOM_OK;
+}
+
+int eom__residual_at(eom_system *s, double t, const double *x)
+{
+    return evaluate_z(s, t, x);
 }
 
 int eom__sens_rhs(eom_system *s, double t, const double *x, int evaluated,
                   int ns, const int *par, const double *const *V,
                   double *const *out, double *work)
+{
+    return eom__sens_rates(s, t, x, evaluated, ns, par, V, out, NULL,
+                           work);
+}
+
+int eom__sens_rates(eom_system *s, double t, const double *x, int evaluated,
+                    int ns, const int *par, const double *const *V,
+                    double *const *out, double *dlam, double *work)
 {
     const int n = s->n, m = s->m, nz = 3 * n + m + 1 + s->np;
     const int N = 2 * n + 1;
@@ -606,7 +638,7 @@ int eom__sens_rhs(eom_system *s, double t, const double *x, int evaluated,
     st = tp_jvp(s->tRes.ws, s->jz, ns, seed, s->jy, JS);
     if ((rc = eom__tape_status(s, st, "the sensitivities' right-hand side")))
         return rc;
-    if ((rc = finish_columns(s, x, JS, ns, Bw, cols, N, 1)) != EOM_OK)
+    if ((rc = finish_columns(s, x, JS, ns, Bw, cols, N, 1, dlam)) != EOM_OK)
         return rc;
     for (k = 0; k < ns; k++) {
         memcpy(out[k], V[k] + n, (size_t)n * sizeof(double));

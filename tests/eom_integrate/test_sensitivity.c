@@ -3,14 +3,15 @@
  *
  *   1. The shipped spring pendulum and double pendulum, 2 s: the
  *      sensitivities of the state with respect to every parameter and to
- *      two initial values (a coordinate and a rate), by adams and bdf at
- *      rtol 1e-10, against central differences of erk runs at rtol
+ *      two initial values (a coordinate and a rate), by adams, bdf and
+ *      ida at rtol 1e-10, against central differences of erk runs at rtol
  *      1e-13 (step 1e-5 relative), to 1e-6 of each input's largest
  *      sensitivity.
  *   2. At t0 the sensitivities are the unit vectors of the initial values
  *      and zero for parameters.
- *   3. Refusals: erk, a model with constraints, an input out of range,
- *      a NULL list; eom_integ_sensitivities of a run without them.
+ *   3. Refusals: erk, an input out of range, a NULL list;
+ *      eom_integ_sensitivities of a run without them. (Models with
+ *      constraints: test_sensitivity_constraints.c.)
  */
 #include <math.h>
 #include <stdio.h>
@@ -64,7 +65,7 @@ static void model(const char *file, int coord, int rate)
     int sens[32];
     double x0[64], x[64], xp[64], xm[64], S[64 * 32], S0[64 * 32];
     double fd[64 * 32];
-    static const eom_method methods[] = {EOM_ADAMS, EOM_BDF};
+    static const eom_method methods[] = {EOM_ADAMS, EOM_BDF, EOM_IDA};
     if (!s)
         return;
     n = eom_system_ncoords(s);
@@ -102,7 +103,7 @@ static void model(const char *file, int coord, int rate)
             fd[i * ns + k] = (xp[i] - xm[i]) / (2.0 * h);
     }
 
-    for (m = 0; m < 2; m++) {
+    for (m = 0; m < 3; m++) {
         eom_opts o;
         eom_integ *it = NULL;
         eom_stats st;
@@ -172,9 +173,12 @@ static void refusals(void)
     CHECK_INT(eom_integ_new(&it, s, &o, 0.0, x), EOM_ERR_ARG);
     CHECK(strstr(eom_system_errmsg(s), "sens[0] = 99") != NULL);
     o.sens = sens;
+    o.method = EOM_ESDIRK;
+    o.n_sens = 2;
     eom_initial_state(c, x);
     CHECK_INT(eom_integ_new(&it, c, &o, 0.0, x), EOM_ERR_ARG);
-    CHECK(strstr(eom_system_errmsg(c), "constraints") != NULL);
+    CHECK(strstr(eom_system_errmsg(c), "not by esdirk") != NULL);
+    o.method = EOM_BDF;
     o.n_sens = 0;
     eom_initial_state(s, x);
     CHECK_INT(eom_integ_new(&it, s, &o, 0.0, x), EOM_OK);

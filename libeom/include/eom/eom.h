@@ -493,14 +493,21 @@ typedef struct eom_opts {
                          the stiff terms of its implicit part's Jacobian
                          (Hessians of V and R), 1 for ARKODE's difference
                          quotient of the implicit part */
-    int n_sens;       /* adams and bdf: forward sensitivities of the
-                         trajectory with respect to n_sens inputs (0,
-                         default: none); read them with
-                         eom_integ_sensitivities */
+    int n_sens;       /* adams, bdf and ida: forward sensitivities of
+                         the trajectory with respect to n_sens inputs (0,
+                         default: none), for models with or without
+                         constraints; read them with
+                         eom_integ_sensitivities. Other methods refuse
+                         them (EOM_ERR_ARG) */
     const int *sens;  /* [n_sens] the inputs: a parameter index k
                          (0 .. np-1), or np + i for the initial value of
                          state i (coordinate i for i < n, the rate of
-                         coordinate i - n otherwise); copied */
+                         coordinate i - n otherwise); copied. With
+                         constraints, a start moved along an input is
+                         taken back onto them by the least change of the
+                         coordinates (eom_project_start): the
+                         sensitivities at t0 are tangent to the
+                         constraints, not unit vectors */
 } eom_opts;
 
 /* The names eom_opts.erk_table accepts: the k-th for k = 0, 1, ..., then
@@ -585,11 +592,19 @@ EOM_API int eom_integ_stats(const eom_integ *it, eom_stats *st);
 /* The sensitivities at the time of the last eom_integ_advance (at t0
  * before the first): S[i * n_sens + k] = d x_i / d(input k) for the 2n
  * states x = (q, qd) and the inputs of eom_opts.sens, row-major 2n x
- * n_sens. CVODES integrates them beside the state (staggered, on the
- * state's steps, their corrector with the state's tolerances scaled by
- * each parameter's size) with right-hand sides A S + B from the residual
- * tape, exact (docs/integrators.md, "Sensitivities"). EOM_ERR_ARG when
- * the integrator computes none. */
+ * n_sens. CVODES (adams, bdf) integrates them beside the state
+ * (staggered, on the state's steps, their corrector with the state's
+ * tolerances scaled by each parameter's size) with right-hand sides
+ * A S + B from the residual tape, exact, the constraint forces' and
+ * multipliers' changes included; IDAS (ida) the same with exact
+ * residuals of the DAE's sensitivities and in its error test. With
+ * constraints and eom_opts.project they are the derivatives of the
+ * projected state x returned: projected with the linearized projection,
+ * so that C S_q + dphi/dp = 0 and d(C qd + dphi/dt)/d(q, qd, p) along
+ * them is 0 (docs/integrators.md, "Sensitivities"). A run with
+ * sensitivities that adams or ida would hand to bdf at a singular
+ * position stops there (EOM_ERR_RANK_DEFICIENT). EOM_ERR_ARG when the
+ * integrator computes none. */
 EOM_API int eom_integ_sensitivities(const eom_integ *it, double *S);
 
 #ifdef __cplusplus
