@@ -119,9 +119,25 @@ void tp__fwd1(tp_ws *ws, const double *x, int p, const double *S, size_t lds,
             r[(int)i - first] = 1.0;
     }
     /* One switch per op computes the value and, if the op depends on a
-     * seeded group, its tangent row (sweep_ops.h). */
-    for (i = T->first_active; i < end; i++)
-        tp__k_fwd1(&kx, i, opc[i], dep[i], a0[i], a1[i]);
+     * seeded group, its tangent row (sweep_ops.h). At one or two vectors
+     * of columns (up to eight coordinates, where most models live) the
+     * width is a constant of its own loop, which drops the per-row loop
+     * control: 4 to 6 % fewer instructions per right-hand side at 2 to 8
+     * links. (The same for tp__rev2 added instructions: 20 % at 5 links.) */
+    if (pr == TP_LANES) {
+        tp_kx k1 = kx;
+        k1.pr = TP_LANES;
+        for (i = T->first_active; i < end; i++)
+            tp__k_fwd1(&k1, i, opc[i], dep[i], a0[i], a1[i]);
+    } else if (pr == 2 * TP_LANES) {
+        tp_kx k2 = kx;
+        k2.pr = 2 * TP_LANES;
+        for (i = T->first_active; i < end; i++)
+            tp__k_fwd1(&k2, i, opc[i], dep[i], a0[i], a1[i]);
+    } else {
+        for (i = T->first_active; i < end; i++)
+            tp__k_fwd1(&kx, i, opc[i], dep[i], a0[i], a1[i]);
+    }
 }
 
 void tp__lagrange_compiled(tp_ws *ws, const double *x, double *g, double *H)
