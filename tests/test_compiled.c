@@ -14,7 +14,12 @@
  *      truncated checksum are detected and rebuilt, never loaded; a
  *      missing or failing compiler and an unusable cache directory give
  *      TP_ERR_COMPILE with a message that says which.
- *   3. Misuse: a compiled tape on a workspace of another tape or width.
+ *   3. Parts: a tape of about 1400 ops built by three compilers side by
+ *      side (tp_compile_opts.jobs) against the interpreter as in 1; only
+ *      some sweeps compiled (tp_compile_opts.sweeps): the source has those
+ *      alone, and the others run interpreted with the same results.
+ *   4. Misuse: a compiled tape on a workspace of another tape or width;
+ *      sweeps with an unknown bit.
  */
 #define _POSIX_C_SOURCE 200809L
 
@@ -204,6 +209,151 @@ static void every_op(const char *dir)
     tp_tape_free(&t);
 }
 
+/* ---- 3. parts and sweeps ----------------------------------------------- */
+
+/* A long Lagrangian: 150 terms of the form of rec_every_op's kinetic and
+ * potential parts, about 1400 ops (three parts of a build with jobs 3). */
+static int rec_long(tp_rec *r, void *user)
+{
+    tp_val q[NQ], qd[NQ], t, L, m;
+    int i, k;
+    (void)user;
+    for (i = 0; i < NQ; i++) {
+        q[i] = tp_indep(r, i);
+        qd[i] = tp_indep(r, NQ + i);
+    }
+    t = tp_indep(r, 2 * NQ);
+    m = tp_param(r, "m", 1.5);
+    L = tp_mulc(r, tp_mul(r, m, tp_sqr(r, qd[0])), 0.5);
+    for (k = 0; k < 150; k++) {
+        const int a = k % NQ, b = (k + 1) % NQ;
+        tp_val c = tp_cos(r, tp_addc(r, tp_sub(r, q[a], q[b]), 0.01 * k));
+        tp_val term = tp_mul(r, tp_mul(r, qd[a], qd[b]), c);
+        term = tp_mulc(r, term, 1.0 / (k + 2.0));
+        L = tp_add(r, L, term);
+        L = tp_sub(r, L, tp_mulc(r, tp_mul(r, tp_sin(r, q[b]), t),
+                                 0.5 / (k + 1.0)));
+        L = tp_add(r, L, tp_mulc(r, tp_sqr(r, qd[b]), 0.25 / (k + 3.0)));
+    }
+    tp_output(r, "L", L);
+    tp_output(r, "m", m);
+    tp_output(r, "L2", tp_mul(r, L, L));
+    return 0;
+}
+
+/* The generated source of c's cache entry (info->path with .c). */
+static char *source_of(const tp_compile_info *info)
+{
+    char path[1100];
+    size_t n = strlen(info->path);
+    FILE *f;
+    char *p;
+    long len;
+    if (n < 3)
+        return NULL;
+    snprintf(path, sizeof path, "%.*s.c", (int)(n - 3), info->path);
+    if (!(f = fopen(path, "rb")))
+        return NULL;
+    fseek(f, 0, SEEK_END);
+    len = ftell(f);
+    rewind(f);
+    p = calloc((size_t)len + 1, 1);
+    if (p && fread(p, 1, (size_t)len, f) != (size_t)len) {
+        free(p);
+        p = NULL;
+    }
+    fclose(f);
+    return p;
+}
+
+/* Compile t with o, run it against the interpreter, and say whether the
+ * source has each sweep's entry point (fwd0, rev1, lagrange). */
+static void compiled_against_interpreter(tp_tape *t, const tp_compile_opts *o,
+                                         int parts, const char *has,
+                                         const char *lacks, int states)
+{
+    tp_compile_info info;
+    tp_compiled *c = NULL;
+    tp_ws *wi = NULL, *wc = NULL;
+    rng g = rng_seed(11);
+    char *src;
+    CHECK_INT(tp_compile(t, o, &c, &info), TP_OK);
+    if (!c) {
+        fprintf(stderr, "tp_compile: %s\n", info.msg);
+        return;
+    }
+    CHECK_INT(info.parts, parts);
+    src = source_of(&info);
+    CHECK(src != NULL);
+    if (src) {
+        char name[32];
+        const char *p;
+        for (p = has; *p; p += strlen(p) + 1) {
+            snprintf(name, sizeof name, "void tpc_%s(", p);
+            CHECK(strstr(src, name) != NULL);
+        }
+        for (p = lacks; *p; p += strlen(p) + 1) {
+            snprintf(name, sizeof name, "void tpc_%s(", p);
+            CHECK(strstr(src, name) == NULL);
+        }
+        free(src);
+    }
+    CHECK_INT(tp_ws_new(&wi, t, NQ, NULL), TP_OK);
+    CHECK_INT(tp_ws_new(&wc, t, NQ, NULL), TP_OK);
+    CHECK_INT(tp_ws_set_compiled(wc, c), TP_OK);
+    compare_paths(wi, wc, &g, states);
+    tp_ws_free(&wi);
+    tp_ws_free(&wc);
+    tp_compiled_free(&c);
+}
+
+static void parts_and_sweeps(const char *dir)
+{
+    tp_tape *t = record(rec_long), *t2 = record(rec_every_op);
+    tp_compile_opts o;
+    CHECK(t && t2);
+    if (!t || !t2)
+        return;
+    {
+        tp_tape_stats st;
+        CHECK_INT(tp_tape_stats_get(t, &st), TP_OK);
+        CHECK(st.n_ops >= 1000 && st.n_ops < 1500); /* three parts */
+    }
+    memset(&o, 0, sizeof o);
+    o.cache_dir = dir;
+    o.max_dirs = NQ;
+    o.lagrange = 1;
+    o.lagrange_out = 0;
+    o.jobs = 3;
+    compiled_against_interpreter(t, &o, 3, "fwd0\0rev1\0lagrange\0", "",
+                                 20);
+    /* the same source in two parts and in one piece (other flags, so not
+     * from the cache) */
+    o.jobs = 2;
+    o.cflags = "-O0 -g0";
+    compiled_against_interpreter(t, &o, 2, "fwd0\0rev1\0lagrange\0", "",
+                                 5);
+    o.jobs = 1;
+    o.cflags = "-O0";
+    compiled_against_interpreter(t, &o, 1, "fwd0\0rev1\0lagrange\0", "",
+                                 5);
+    /* some sweeps only; the rest run interpreted */
+    o.jobs = 0;
+    o.cflags = NULL;
+    o.lagrange = 0;
+    o.sweeps = TP_SWEEP_VALUES;
+    compiled_against_interpreter(t2, &o, 1, "fwd0\0", "rev1\0lagrange\0",
+                                 10);
+    o.sweeps = TP_SWEEP_GRADIENTS;
+    compiled_against_interpreter(t2, &o, 1, "rev1\0", "fwd0\0lagrange\0",
+                                 10);
+    o.sweeps = TP_SWEEP_LAGRANGE;
+    compiled_against_interpreter(t2, &o, 1, "lagrange\0", "fwd0\0rev1\0",
+                                 10);
+    tp_tape_free(&t);
+    tp_tape_free(&t2);
+}
+
 /* ---- 2. the cache ---------------------------------------------------------- */
 
 static int rec_small(tp_rec *r, void *user)
@@ -389,6 +539,10 @@ static void misuse(const char *dir)
         CHECK(d == NULL);
     }
     CHECK_INT(tp_compile(t, &o, NULL, &info), TP_ERR_NULL);
+    o.sweeps = 8u; /* no such sweep */
+    CHECK_INT(tp_compile(t, &o, &c, &info), TP_ERR_SIZE);
+    CHECK(c == NULL);
+    CHECK(strstr(info.msg, "sweeps") != NULL);
     tp_compiled_free(NULL);
     tp_tape_free(&t);
     tp_tape_free(&t2);
@@ -404,6 +558,7 @@ int main(void)
     }
     every_op(dir);
     cache(dir);
+    parts_and_sweeps(dir);
     misuse(dir);
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
     if (system(cmd) != 0)

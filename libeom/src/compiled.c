@@ -10,17 +10,16 @@
 
 #include "eom_internal.h"
 
-/* Where a tape is checked against the interpreter: the initial state,
- * (q, qd, t = 0), or (q, t = 0) for the constraints (k = 4). */
-static void check_point(const eom_system *s, const eom_tape *et, int k,
-                        double *x)
+/* Where a tape is checked against the interpreter: the initial state
+ * (q, qd, t = 0). */
+static void check_point(const eom_system *s, const eom_tape *et, double *x)
 {
     const int ni = tp_tape_n_indep(et->tape), n = s->n;
     int i;
     for (i = 0; i < ni; i++)
-        x[i] = i < n ? s->coords[i].v0
-               : i < 2 * n && k != 4 ? s->coords[i - n].v1
-                                     : 0.0;
+        x[i] = i < n       ? s->coords[i].v0
+               : i < 2 * n ? s->coords[i - n].v1
+                           : 0.0;
 }
 
 /* Point s's workspaces at the shared compiled tapes (on) or back to the
@@ -73,9 +72,10 @@ int eom_system_set_compiled(eom_system *s, int on,
         tp_compile_info ci;
         tp_compile_opts o;
         int st;
-        /* the residual tape serves Jacobians, whose sweeps (directions
-         * over every op) stay on the interpreter: nothing to gain */
-        if (!t[k]->tape || k == 5)
+        /* the residual tape serves Jacobians and the constraints' tape
+         * C and gamma: their sweeps (directions over every op, Taylor
+         * coefficients) stay on the interpreter, nothing to gain */
+        if (!t[k]->tape || k == 4 || k == 5)
             continue;
         info->tapes++;
         if (s->shared->cc[k]) {
@@ -83,12 +83,19 @@ int eom_system_set_compiled(eom_system *s, int on,
             continue;
         }
         memset(&o, 0, sizeof o);
-        check_point(s, t[k], k, x);
+        check_point(s, t[k], x);
         o.x = x;
         o.max_dirs = t[k]->dirs;
         /* the L tape's Lagrange block: its output 0 is L, its rates a
          * group of their own, its workspace n directions wide */
         o.lagrange = k == 0 && t[k]->dirs >= s->n;
+        /* only the sweeps the evaluations run (each costs compile time):
+         * L through tp_lagrange, R's gradient, the values of E (with the
+         * probes) and Q; the rarer calls (a gradient of L for the power of
+         * a rheonomic model, the linearization's Hessians) interpret */
+        o.sweeps = o.lagrange        ? TP_SWEEP_LAGRANGE
+                   : k == 1 || k == 3 ? TP_SWEEP_VALUES
+                                      : TP_SWEEP_VALUES | TP_SWEEP_GRADIENTS;
         st = tp_compile(t[k]->tape, &o, &s->shared->cc[k], &ci);
         info->seconds += ci.t_emit + ci.t_compile + ci.t_load + ci.t_check;
         info->source_bytes += ci.source_bytes;

@@ -40,6 +40,9 @@ enum sweep { SW_FWD0, SW_REV1, SW_COUNT };
 static const char *const sweep_name[SW_COUNT] = {"fwd0", "rev1"};
 /* the kernel of each sweep (sweep_ops.h) */
 static const char *const sweep_fn[SW_COUNT] = {"value", "rev1"};
+/* the bit of tp_compile_opts.sweeps that asks for it */
+static const unsigned sweep_bit[SW_COUNT] = {TP_SWEEP_VALUES,
+                                             TP_SWEEP_GRADIENTS};
 
 /* The slots where a sweep may end: end is one past an output's slot, or
  * the leaves' end when no output is needed (drivers.c, end_of). */
@@ -85,11 +88,11 @@ static void emit_chunk(tp_sbuf *b, const tp_tape *T, const unsigned char *ep,
 {
     const bool rev = s == SW_REV1;
     uint32_t i;
-    tp__sbuf_printf(b,
-                    "static TPC_CHUNK void %s_%u(const tp_kx *x, uint32_t "
-                    "end)\n{\n    tp_kx y = *x;\n    y.K = K;\n"
-                    "    (void)end;\n",
-                    sweep_name[s], c);
+    char sig[96];
+    snprintf(sig, sizeof sig, "void %s_%u(const tp_kx *x, uint32_t end)",
+             sweep_name[s], c);
+    tp__chunk_begin(b, c, sig);
+    tp__sbuf_puts(b, "    tp_kx y = *x;\n    y.K = K;\n    (void)end;\n");
 
     if (!rev) {
         for (i = lo; i < hi; i++) {
@@ -115,7 +118,7 @@ static void emit_chunk(tp_sbuf *b, const tp_tape *T, const unsigned char *ep,
             emit_op(b, T, s, i);
         }
     }
-    tp__sbuf_puts(b, "}\n");
+    tp__sbuf_puts(b, TP_CHUNK_END);
 }
 
 static void emit_sweep(tp_sbuf *b, const tp_tape *T, const unsigned char *ep,
@@ -127,7 +130,8 @@ static void emit_sweep(tp_sbuf *b, const tp_tape *T, const unsigned char *ep,
     for (c = 0; c < nc; c++)
         emit_chunk(b, T, ep, s, c, lo + c * CHUNK,
                    lo + (c + 1) * CHUNK < n ? lo + (c + 1) * CHUNK : n);
-    tp__sbuf_printf(b, "TPC_EXPORT void tpc_%s(const tp_kx *x, uint32_t end)\n{\n",
+    tp__sbuf_printf(b, "#if TPC_PART == 0\n"
+                       "TPC_EXPORT void tpc_%s(const tp_kx *x, uint32_t end)\n{\n",
                     sweep_name[s]);
     if (s == SW_REV1) {
         for (c = nc; c-- > 0;)
@@ -138,7 +142,13 @@ static void emit_sweep(tp_sbuf *b, const tp_tape *T, const unsigned char *ep,
             tp__sbuf_printf(b, "    if (end <= %uu) return;\n    %s_%u(x, end);\n",
                             lo + c * CHUNK, sweep_name[s], c);
     }
-    tp__sbuf_puts(b, "    (void)x;\n    (void)end;\n}\n");
+    tp__sbuf_puts(b, "    (void)x;\n    (void)end;\n}\n#endif\n");
+}
+
+void tp__chunk_begin(tp_sbuf *b, unsigned c, const char *sig)
+{
+    tp__sbuf_printf(b, "%s;\n#if TPC_PART == %u %% TPC_NPARTS\nTPC_CHUNK %s\n{\n",
+                    sig, c, sig);
 }
 
 /* A double as an exact C literal. */
@@ -152,7 +162,8 @@ static void emit_double(tp_sbuf *b, double c)
         tp__sbuf_printf(b, "%a", c);
 }
 
-int tp__emit_c(const tp_tape *T, int P, int lagrange_out, tp_sbuf *b)
+int tp__emit_c(const tp_tape *T, int P, int lagrange_out, unsigned sweeps,
+               tp_sbuf *b)
 {
     unsigned char *ep = end_points(T);
     const char *const *line;
@@ -169,7 +180,11 @@ int tp__emit_c(const tp_tape *T, int P, int lagrange_out, tp_sbuf *b)
                     TP_CODEGEN_FORMAT);
     tp__sbuf_puts(b, "#define TP_KERNEL static inline "
                      "__attribute__((always_inline))\n"
-                     "#define TPC_CHUNK __attribute__((noinline))\n"
+                     "#ifndef TPC_NPARTS /* built in one piece */\n"
+                     "#define TPC_NPARTS 1\n#define TPC_PART 0\n#endif\n"
+                     "#define TPC_CHUNK __attribute__((noinline, "
+                     "visibility(\"hidden\")))\n"
+                     "#define TPC_LOCAL static __attribute__((noinline))\n"
                      "#define TPC_EXPORT __attribute__((visibility(\"default\")))\n"
                      "#include <math.h>\n#include <string.h>\n");
     for (line = tp__kernel_text; *line; line++)
@@ -186,34 +201,39 @@ int tp__emit_c(const tp_tape *T, int P, int lagrange_out, tp_sbuf *b)
      * whose address leaves a chunk stays in memory there, and the
      * compiler's alias analysis of every op then costs most of its time) */
     tp__sbuf_puts(b,
-                  "static TPC_CHUNK void tpc_value_GEN(double *v, double *aux, "
+                  "TPC_LOCAL void tpc_value_GEN(double *v, double *aux, "
                   "uint32_t i, unsigned op, unsigned fl, uint32_t u, "
                   "uint32_t t)\n"
                   "{\n    tp_kx x;\n    memset(&x, 0, sizeof x);\n"
                   "    x.K = K;\n    x.v = v;\n    x.aux = aux;\n"
                   "    tp__value_GEN(&x, i, op, fl, u, t);\n}\n"
-                  "static TPC_CHUNK void tpc_rev1_GEN(double *v, double *aux, "
+                  "TPC_LOCAL void tpc_rev1_GEN(double *v, double *aux, "
                   "double *adj, uint32_t i, unsigned op, unsigned fl, "
                   "uint32_t u, uint32_t t)\n"
                   "{\n    tp_kx x;\n    memset(&x, 0, sizeof x);\n"
                   "    x.K = K;\n    x.v = v;\n    x.aux = aux;\n"
                   "    x.adj = adj;\n"
                   "    tp__rev1_GEN(&x, i, op, fl, u, t);\n}\n"
-                  "static TPC_CHUNK void tpc_partials(const double *v, "
+                  "TPC_LOCAL void tpc_partials(const double *v, "
                   "const double *aux, uint32_t i, unsigned op, uint32_t u, "
                   "uint32_t t, tp_partials *d)\n"
                   "{\n    tp__gen_partials(K, v, aux, i, op, u, t, d);\n}\n");
     for (s = 0; s < SW_COUNT; s++)
-        emit_sweep(b, T, ep, (enum sweep)s);
+        if (sweeps & sweep_bit[s])
+            emit_sweep(b, T, ep, (enum sweep)s);
     if (lagrange_out >= 0)
         st = tp__emit_lagrange(T, lagrange_out, (int)T->n_indep / 2,
                                (int)T->n_indep / 2, P, b);
     tp__sbuf_printf(b,
+                    "#if TPC_PART == 0\n"
                     "TPC_EXPORT const int tpc_format = %d;\n"
                     "TPC_EXPORT const uint32_t tpc_nops = %uu;\n"
                     "TPC_EXPORT const size_t tpc_kx_size = sizeof(tp_kx);\n"
-                    "TPC_EXPORT const int tpc_P = %d;\n",
-                    TP_CODEGEN_FORMAT, T->n_ops, P);
+                    "TPC_EXPORT const int tpc_P = %d;\n"
+                    "TPC_EXPORT const unsigned tpc_sweeps = %uu;\n"
+                    "#endif\n",
+                    TP_CODEGEN_FORMAT, T->n_ops, P,
+                    sweeps & (TP_SWEEP_VALUES | TP_SWEEP_GRADIENTS));
     free(ep);
     return b->failed ? TP_ERR_NOMEM : st;
 }
@@ -224,7 +244,7 @@ int tp_tape_emit_c(const tp_tape *t, FILE *out)
     int st;
     if (!t || !out)
         return TP_ERR_NULL;
-    st = tp__emit_c(t, 0, -1, &b);
+    st = tp__emit_c(t, 0, -1, TP_SWEEP_VALUES | TP_SWEEP_GRADIENTS, &b);
     if (st == TP_OK && fwrite(b.p, 1, b.len, out) != b.len)
         st = TP_ERR_SIZE;
     tp__sbuf_free(&b);

@@ -12,7 +12,7 @@
 
 /* Bumped whenever the generated source's interface changes (the entry
  * points, tp_kx); part of the cache key and checked on load. */
-#define TP_CODEGEN_FORMAT 1
+#define TP_CODEGEN_FORMAT 2
 
 /* A growing string; after a failed allocation `failed` is set and further
  * appends do nothing. */
@@ -36,9 +36,12 @@ extern const char *const tp__kernel_text[];
 
 /* The C source of tape T, appended to b: TP_OK or TP_ERR_NOMEM (or
  * tp__emit_lagrange's TP_ERR_SIZE). P is the row width the workspaces
- * will have (a multiple of TP_LANES, 0: unknown); with lagrange_out >= 0
- * the Lagrange block of that output is included (it needs P). */
-int tp__emit_c(const tp_tape *T, int P, int lagrange_out, tp_sbuf *b);
+ * will have (a multiple of TP_LANES, 0: unknown); sweeps says which of
+ * the value (tpc_fwd0) and gradient (tpc_rev1) sweeps to include
+ * (TP_SWEEP_VALUES, TP_SWEEP_GRADIENTS); with lagrange_out >= 0 the
+ * Lagrange block of that output is included too (it needs P). */
+int tp__emit_c(const tp_tape *T, int P, int lagrange_out, unsigned sweeps,
+               tp_sbuf *b);
 
 /* The Lagrange block of output out (codegen_lagrange.c): the function
  * tpc_lagrange(v, aux, tan, at, adj, g, H) giving the output's gradient g
@@ -47,6 +50,23 @@ int tp__emit_c(const tp_tape *T, int P, int lagrange_out, tp_sbuf *b);
  * the block is not made of whole dependency groups. */
 int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
                       int P, tp_sbuf *b);
+
+/* A chunk function (a run of a sweep's ops) opens with its prototype sig
+ * ("void lg_3(LG_ARGS)") and its definition, compiled only in part
+ * c % TPC_NPARTS: a large tape is built in TPC_NPARTS parts at once, each
+ * part the same source with its own TPC_PART (compile.c), part 0 holding
+ * the entry points and exported data. TP_CHUNK_END closes it. */
+void tp__chunk_begin(tp_sbuf *b, unsigned c, const char *sig);
+#define TP_CHUNK_END "}\n#endif\n"
+
+/* Build the source file src into the shared object so with cc and flags
+ * (compile_run.c): in one compiler call, or with parts > 1 in that many
+ * side by side (objects tmp_base.pK.o, linked into so, then removed).
+ * The compilers' messages go to log. 0, or -1 with msg set. */
+#define TP_MAX_PARTS 8
+int tp__run_build(const char *cc, const char *flags, char *src, char *so,
+                  const char *tmp_base, int parts,
+                  const char *log, char *msg, size_t len);
 
 /* The name of op's own function in sweep_ops.h ("MUL"), or "GEN". */
 const char *tp__op_fn_name(unsigned op);
@@ -63,7 +83,8 @@ struct tp_compiled {
     const tp_tape *t; /* the tape it was made from */
     void *dl;         /* dlopen handle */
     int P;            /* row width it was made for, 0: any */
-    tp_kernel_fn fwd0, rev1;
+    unsigned sweeps;  /* TP_SWEEP_VALUES, _GRADIENTS it has */
+    tp_kernel_fn fwd0, rev1; /* NULL for a sweep it does not have */
     /* the Lagrange block, or NULL: output lout, unit directions on the
      * independents lfirst .. lfirst + lcount - 1, seeded groups lmask */
     tp_lagrange_fn lagrange;

@@ -420,16 +420,18 @@ static void cone(const tp_tape *T, uint32_t o, unsigned char *need)
 static void chunk_op(lg *g, int *nchunk, int *inchunk, bool reverse,
                      uint32_t i)
 {
-    if (*inchunk == 0)
-        tp__sbuf_printf(g->b,
-                        "static TPC_CHUNK void lg_%d(LG_ARGS)\n{\nLG_BEGIN\n",
-                        (*nchunk)++);
+    if (*inchunk == 0) {
+        char sig[64];
+        snprintf(sig, sizeof sig, "void lg_%d(LG_ARGS)", *nchunk);
+        tp__chunk_begin(g->b, (unsigned)(*nchunk)++, sig);
+        tp__sbuf_puts(g->b, "LG_BEGIN\n");
+    }
     if (reverse)
         emit_reverse(g, i);
     else
         emit_forward(g, i);
     if (++*inchunk == CHUNK) {
-        tp__sbuf_puts(g->b, "}\n");
+        tp__sbuf_puts(g->b, TP_CHUNK_END);
         *inchunk = 0;
     }
 }
@@ -437,7 +439,7 @@ static void chunk_op(lg *g, int *nchunk, int *inchunk, bool reverse,
 static void chunk_close(lg *g, int *inchunk)
 {
     if (*inchunk)
-        tp__sbuf_puts(g->b, "}\n");
+        tp__sbuf_puts(g->b, TP_CHUNK_END);
     *inchunk = 0;
 }
 
@@ -489,15 +491,15 @@ int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
         if (g.need[i] && g.aw[i])
             chunk_op(&g, &nchunk, &inchunk, true, i);
     chunk_close(&g, &inchunk);
-    tp__sbuf_puts(b, "TPC_EXPORT void tpc_lagrange(LG_ARGS, double *restrict "
+    tp__sbuf_puts(b, "#if TPC_PART == 0\n"
+                     "TPC_EXPORT void tpc_lagrange(LG_ARGS, double *restrict "
                      "gr, double *restrict H)\n{\n");
-    /* unit seeds */
-    for (k = first; k < first + count; k++) {
-        int c;
-        for (c = 0; c < P; c++)
-            tp__sbuf_printf(b, "T_(%d)[%d] = %s;\n", k, c,
-                            c == k - first ? "1.0" : "0.0");
-    }
+    /* unit seeds (a loop: written out, they were a tenth of the source) */
+    tp__sbuf_printf(b,
+                    "for (int k_ = 0; k_ < %d; k_++) {\n"
+                    "    memset(T_(%d + k_), 0, %d * sizeof(double));\n"
+                    "    T_(%d + k_)[k_] = 1.0;\n}\n",
+                    count, first, P, first);
     tp__sbuf_printf(b, "adj[%u] = 1.0;\n", o);
     for (k = 0; k < nchunk; k++)
         tp__sbuf_printf(b, "lg_%d(v, aux, tan, at, adj);\n", k);
@@ -515,9 +517,9 @@ int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
                             i * (uint32_t)count, count);
     }
     tp__sbuf_printf(b,
-                    "(void)v;\n(void)aux;\n}\n#undef T_\n#undef A_\n"
+                    "(void)v;\n(void)aux;\n}\n"
                     "TPC_EXPORT const int tpc_lagrange_shape[4] = "
-                    "{%d, %d, %d, %d};\n",
+                    "{%d, %d, %d, %d};\n#endif\n#undef T_\n#undef A_\n",
                     out, first, count, P);
     free(g.need);
     return b->failed ? TP_ERR_NOMEM : TP_OK;

@@ -183,105 +183,6 @@ static int path_of(char *out, size_t len, const char *dir, const char *base,
     return n >= 0 && (size_t)n < len ? 0 : -1;
 }
 
-/* ---- the compiler ------------------------------------------------------ */
-
-/* Split s at blanks into argv (no quoting: a path with blanks cannot be a
- * compiler here). Returns the count, or -1 when there are too many. */
-static int split_words(char *s, char **argv, int max)
-{
-    int n = 0;
-    char *save = NULL, *w;
-    for (w = strtok_r(s, " \t", &save); w; w = strtok_r(NULL, " \t", &save)) {
-        if (n >= max)
-            return -1;
-        argv[n++] = w;
-    }
-    return n;
-}
-
-/* The first line of the compiler's messages, for the caller's message. */
-static void first_line(const char *log, char *out, size_t len)
-{
-    size_t n = 0, k;
-    unsigned char *p = read_file(log, 1 << 20, &n);
-    out[0] = 0;
-    if (!p)
-        return;
-    for (k = 0; k < n && p[k] != '\n' && k + 1 < len; k++)
-        out[k] = (char)p[k];
-    out[k] = 0;
-    free(p);
-}
-
-/* Run cc flags -o so src; 0 when the compiler succeeded. */
-static int run_compiler(const char *cc, const char *flags, char *src,
-                        char *so, const char *log, tp_compile_info *info)
-{
-    static char fpic[] = "-fPIC", shared[] = "-shared",
-                contract[] = "-ffp-contract=off", dash_o[] = "-o",
-                libm[] = "-lm";
-    char *const fixed[] = {fpic, shared, contract};
-    char words[2 * PATH_LEN], detail[200];
-    char *argv[MAX_ARGS + 10];
-    posix_spawn_file_actions_t fa;
-    pid_t pid;
-    int n, m, k, rc, status;
-    if ((size_t)snprintf(words, sizeof words, "%s", cc) >= sizeof words / 2 ||
-        (n = split_words(words, argv, MAX_ARGS / 2)) < 1) {
-        say(info, "the compiler command '%s' is empty or too long", cc);
-        return -1;
-    }
-    m = (int)strlen(words) + 1;
-    if ((size_t)snprintf(words + m, sizeof words - (size_t)m, "%s", flags) >=
-            sizeof words - (size_t)m ||
-        (k = split_words(words + m, argv + n, MAX_ARGS / 2)) < 0) {
-        say(info, "the compiler flags '%s' are too long", flags);
-        return -1;
-    }
-    n += k;
-    for (k = 0; k < 3; k++)
-        argv[n++] = fixed[k];
-    argv[n++] = dash_o;
-    argv[n++] = so;
-    argv[n++] = src;
-    argv[n++] = libm;
-    argv[n] = NULL;
-    if (posix_spawn_file_actions_init(&fa) != 0) {
-        say(info, "cannot start the compiler: out of memory");
-        return -1;
-    }
-    posix_spawn_file_actions_addopen(&fa, 1, log, O_WRONLY | O_CREAT | O_TRUNC,
-                                     0600);
-    posix_spawn_file_actions_adddup2(&fa, 1, 2);
-    rc = posix_spawnp(&pid, argv[0], &fa, NULL, argv, environ);
-    posix_spawn_file_actions_destroy(&fa);
-    if (rc != 0) {
-        say(info, "cannot run the C compiler '%s': %s%s", argv[0],
-            strerror(rc),
-            rc == ENOENT ? " (set CC or install a C compiler)" : "");
-        return -1;
-    }
-    while (waitpid(pid, &status, 0) < 0) {
-        if (errno != EINTR) {
-            say(info, "waiting for the C compiler: %s", strerror(errno));
-            return -1;
-        }
-    }
-    if (WIFEXITED(status) && WEXITSTATUS(status) == 0)
-        return 0;
-    first_line(log, detail, sizeof detail);
-    if (WIFEXITED(status) && WEXITSTATUS(status) == 127)
-        say(info, "cannot run the C compiler '%s' (not found)", argv[0]);
-    else if (WIFEXITED(status))
-        say(info, "the C compiler '%s' failed (exit %d)%s%s; see %s",
-            argv[0], WEXITSTATUS(status), detail[0] ? ": " : "", detail,
-            log);
-    else
-        say(info, "the C compiler '%s' was stopped by signal %d", argv[0],
-            WIFSIGNALED(status) ? WTERMSIG(status) : 0);
-    return -1;
-}
-
 /* ---- cache entries ----------------------------------------------------- */
 
 #define SUM_MAGIC "autoeom compiled tape"
@@ -360,6 +261,7 @@ static int load(tp_compiled *c, const char *so, const char *key,
     const uint32_t *nops;
     const size_t *kxs;
     const int *P;
+    const unsigned *sweeps;
     const char *k;
     c->dl = dlopen(so, RTLD_NOW | RTLD_LOCAL);
     if (!c->dl) {
@@ -372,8 +274,12 @@ static int load(tp_compiled *c, const char *so, const char *key,
     kxs = dlsym(c->dl, "tpc_kx_size");
     k = dlsym(c->dl, "tpc_key");
     P = dlsym(c->dl, "tpc_P");
-    *(void **)&c->fwd0 = dlsym(c->dl, "tpc_fwd0");
-    *(void **)&c->rev1 = dlsym(c->dl, "tpc_rev1");
+    sweeps = dlsym(c->dl, "tpc_sweeps");
+    c->fwd0 = c->rev1 = NULL;
+    if (c->sweeps & TP_SWEEP_VALUES)
+        *(void **)&c->fwd0 = dlsym(c->dl, "tpc_fwd0");
+    if (c->sweeps & TP_SWEEP_GRADIENTS)
+        *(void **)&c->rev1 = dlsym(c->dl, "tpc_rev1");
     c->lagrange = NULL;
     if (c->lout >= 0) {
         const int *shape = dlsym(c->dl, "tpc_lagrange_shape");
@@ -382,7 +288,9 @@ static int load(tp_compiled *c, const char *so, const char *key,
             shape[2] != c->lcount || shape[3] != c->P)
             c->lagrange = NULL;
     }
-    if (!format || !nops || !kxs || !k || !c->fwd0 || !c->rev1 ||
+    if (!format || !nops || !kxs || !k || !sweeps || *sweeps != c->sweeps ||
+        (!c->fwd0 && (c->sweeps & TP_SWEEP_VALUES)) ||
+        (!c->rev1 && (c->sweeps & TP_SWEEP_GRADIENTS)) ||
         (c->lout >= 0 && !c->lagrange) || !P ||
         *P != c->P ||
         *format != TP_CODEGEN_FORMAT ||
@@ -455,7 +363,8 @@ static int check(const tp_compiled *c, const double *xin,
         double *y = r[k], *g = y + m, *L = g + n, *dt = L + 1, *gq = dt + 1,
                *h = gq + nq, *M = h + nq;
         /* statuses may be TP_WARN_NONFINITE on both paths alike */
-        if (tp_eval(w[k], x, y) < 0 || tp_vjp(w[k], x, wt, NULL, g) < 0 ||
+        if ((c->fwd0 && tp_eval(w[k], x, y) < 0) ||
+            (c->rev1 && tp_vjp(w[k], x, wt, NULL, g) < 0) ||
             (c->lagrange &&
              tp_lagrange_t(w[k], x, c->lout, L, gq, dt, M, h) < 0)) {
             say(info, "checking the compiled tape: %s", tp_ws_errmsg(w[k]));
@@ -477,11 +386,11 @@ done:
 
 static int build(const char *dir, const char *base, const char *key,
                  const tp_sbuf *src, const char *cc, const char *flags,
-                 tp_compile_info *info)
+                 int parts, tp_compile_info *info)
 {
     static atomic_uint counter;
     char tc[PATH_LEN], tso[PATH_LEN], tsum[PATH_LEN], log[PATH_LEN];
-    char so[PATH_LEN], sum[PATH_LEN], c[PATH_LEN];
+    char so[PATH_LEN], sum[PATH_LEN], c[PATH_LEN], tb[PATH_LEN];
     char tbase[160];
     const unsigned id = atomic_fetch_add(&counter, 1u);
     int rc = -1;
@@ -492,6 +401,7 @@ static int build(const char *dir, const char *base, const char *key,
         path_of(c, sizeof c, dir, base, ".c") != 0 ||
         path_of(log, sizeof log, dir, base, ".log") != 0 ||
         path_of(tc, sizeof tc, dir, tbase, ".c") != 0 ||
+        path_of(tb, sizeof tb, dir, tbase, "") != 0 ||
         path_of(tso, sizeof tso, dir, tbase, ".so") != 0 ||
         path_of(tsum, sizeof tsum, dir, tbase, ".sum") != 0) {
         say(info, "the cache directory's name is too long: %s", dir);
@@ -502,7 +412,8 @@ static int build(const char *dir, const char *base, const char *key,
         goto done;
     }
     info->t_compile = now();
-    if (run_compiler(cc, flags, tc, tso, log, info) != 0) {
+    if (tp__run_build(cc, flags, tc, tso, tb, parts, log, info->msg,
+                      sizeof info->msg) != 0) {
         info->t_compile = now() - info->t_compile;
         goto done;
     }
@@ -523,6 +434,20 @@ done:
     return rc;
 }
 
+/* How many compilers build t side by side: one part for about every 500
+ * ops (a part's compiler takes about half a second for them at -O1; fewer
+ * ops would not pay for the extra link), at most the jobs allowed. */
+static int build_parts(const tp_tape *t, const tp_compile_opts *o)
+{
+    long jobs = o && o->jobs > 0 ? o->jobs : sysconf(_SC_NPROCESSORS_ONLN);
+    long parts = 1 + (long)(t->n_ops / 500);
+    if (jobs < 1)
+        jobs = 1;
+    if (parts > jobs)
+        parts = jobs;
+    return parts > TP_MAX_PARTS ? TP_MAX_PARTS : (int)parts;
+}
+
 int tp_compile(const tp_tape *t, const tp_compile_opts *o,
                tp_compiled **out, tp_compile_info *info_out)
 {
@@ -535,6 +460,7 @@ int tp_compile(const tp_tape *t, const tp_compile_opts *o,
     hash128 h;
     double t0;
     int have, rc, P, lout;
+    unsigned sweeps;
     static const int format = TP_CODEGEN_FORMAT;
 
     memset(info, 0, sizeof *info);
@@ -559,14 +485,26 @@ int tp_compile(const tp_tape *t, const tp_compile_opts *o,
     t0 = now();
     P = o && o->max_dirs > 0 ? (o->max_dirs + TP_LANES - 1) / TP_LANES * TP_LANES
                              : 0;
-    lout = o && o->lagrange ? o->lagrange_out : -1;
+    sweeps = o && o->sweeps ? o->sweeps
+                            : TP_SWEEP_VALUES | TP_SWEEP_GRADIENTS;
+    lout = o && (o->lagrange || (sweeps & TP_SWEEP_LAGRANGE))
+               ? o->lagrange_out
+               : -1;
+    sweeps &= TP_SWEEP_VALUES | TP_SWEEP_GRADIENTS;
+    if (o && (o->sweeps & ~(TP_SWEEP_VALUES | TP_SWEEP_GRADIENTS |
+                            TP_SWEEP_LAGRANGE))) {
+        say(info, "tp_compile: sweeps has bits other than TP_SWEEP_VALUES, "
+                  "TP_SWEEP_GRADIENTS and TP_SWEEP_LAGRANGE (%#x)",
+            o->sweeps);
+        return TP_ERR_SIZE;
+    }
     if (lout >= 0 && (P == 0 || (uint32_t)lout >= t->n_out ||
                       (int)t->n_indep / 2 > P)) {
         say(info, "tp_compile: the Lagrange block needs max_dirs >= n_indep "
                   "/ 2 and an output of the tape");
         return TP_ERR_SIZE;
     }
-    rc = tp__emit_c(t, P, lout, &src);
+    rc = tp__emit_c(t, P, lout, sweeps, &src);
     if (rc != TP_OK) {
         tp__sbuf_free(&src);
         say(info, rc == TP_ERR_NOMEM
@@ -582,7 +520,10 @@ int tp_compile(const tp_tape *t, const tp_compile_opts *o,
     hash_bytes(&h, flags, strlen(flags) + 1);
     hash_bytes(&h, src.p, src.len);
     hash_hex(&h, key);
-    tp__sbuf_printf(&src, "TPC_EXPORT const char tpc_key[] = \"%s\";\n", key);
+    tp__sbuf_printf(&src,
+                    "#if TPC_PART == 0\n"
+                    "TPC_EXPORT const char tpc_key[] = \"%s\";\n#endif\n",
+                    key);
     info->t_emit = now() - t0;
     info->source_bytes = src.len;
     snprintf(base, sizeof base, "tp-%s", key);
@@ -602,6 +543,7 @@ int tp_compile(const tp_tape *t, const tp_compile_opts *o,
     }
     c->t = t;
     c->P = P;
+    c->sweeps = sweeps;
     c->lout = lout;
     c->lfirst = c->lcount = (int)t->n_indep / 2;
     for (rc = c->lfirst; rc < c->lfirst + c->lcount; rc++)
@@ -630,7 +572,8 @@ int tp_compile(const tp_tape *t, const tp_compile_opts *o,
     }
     if (have == -1)
         info->rebuilt = 1;
-    if (build(dir, base, key, &src, cc, flags, info) != 0) {
+    info->parts = build_parts(t, o);
+    if (build(dir, base, key, &src, cc, flags, info->parts, info) != 0) {
         rc = TP_ERR_COMPILE;
         goto fail;
     }

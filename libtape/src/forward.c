@@ -85,7 +85,7 @@ void tp__fwd0(tp_ws *ws, const double *x, uint32_t end)
     const tp_kx kx = tp__kx(ws, 0, 0);
     uint32_t i;
     load_leaves(ws, x);
-    if (ws->cc) {
+    if (ws->cc && ws->cc->fwd0) {
         ws->cc->fwd0(&kx, end);
         return;
     }

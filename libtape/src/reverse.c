@@ -53,7 +53,7 @@ void tp__rev1(tp_ws *ws, const double *w, uint32_t end, double *g)
     uint32_t i;
 
     seed_outputs(ws, w);
-    if (ws->cc)
+    if (ws->cc && ws->cc->rev1)
         ws->cc->rev1(&kx, end);
     else
         for (i = end; i-- > T->first_active;)

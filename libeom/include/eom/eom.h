@@ -213,14 +213,15 @@ EOM_API int eom_system_clone(eom_system **out, const eom_system *s,
 /* Message about the last error of a call on s ("" after a success). */
 EOM_API const char *eom_system_errmsg(const eom_system *s);
 
-/* Compiled tapes (docs/libeom.md, "Compiled tapes"). With on = 1 every
- * tape of s is emitted as C, built by the system's C compiler (CC, else
- * cc; flags -O1) into a per-user cache ($AUTOEOM_CACHE_DIR, else
- * $XDG_CACHE_HOME/autoeom, else ~/.cache/autoeom), loaded, and checked
- * against the interpreter at the model's initial state; from then on
- * the right-hand sides, energies and probes of s run the compiled code,
- * with the interpreter's results (the exact Jacobians of the implicit
- * methods stay interpreted). A second call,
+/* Compiled tapes (docs/libeom.md, "Compiled tapes"). With on = 1 the
+ * tapes of s are emitted as C, in the sweeps its evaluations call, built
+ * by the system's C compiler (CC, else cc; flags -O1) into a per-user
+ * cache ($AUTOEOM_CACHE_DIR, else $XDG_CACHE_HOME/autoeom, else
+ * ~/.cache/autoeom), loaded, and checked against the interpreter at the
+ * model's initial state; from then on the right-hand sides, energies and
+ * probes of s run the compiled code, with the interpreter's results (the
+ * constraints' Jacobian and gamma, and the exact Jacobians of the
+ * implicit methods, stay interpreted). A second call,
  * or another process, finds the objects in the cache. When anything
  * fails (no compiler, a compiler error, a failed check) s stays on the
  * interpreter and the call returns EOM_WARN_INTERPRETED with the reason
@@ -229,7 +230,7 @@ EOM_API const char *eom_system_errmsg(const eom_system *s);
  * it while no system sharing s's tapes is in use by another thread.
  * info (may be NULL) receives what it took. */
 typedef struct eom_compiled_info {
-    int tapes;      /* tapes of the system */
+    int tapes;      /* tapes of the system that are compiled */
     int cached;     /* of them found in the cache or already compiled */
     int rebuilt;    /* cache entries that failed their checks and were
                        built again */

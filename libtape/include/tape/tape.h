@@ -425,13 +425,32 @@ typedef struct tp_compile_opts {
      * otherwise). */
     int lagrange;
     int lagrange_out;
+    /* Which sweeps to compile, an or of TP_SWEEP_VALUES (every sweep of
+     * values alone: tp_eval and the first half of tp_gradient),
+     * TP_SWEEP_GRADIENTS (the reverse sweep of tp_gradient and tp_vjp) and
+     * TP_SWEEP_LAGRANGE (the Lagrange block, as lagrange = 1); 0 (the
+     * default): values and gradients, and the Lagrange block if lagrange
+     * is set. The sweeps left out stay on the interpreter. Each costs
+     * compile time (for a 50-link chain's Lagrangian, the values and
+     * gradients were 40 % of it), so compile only what is called often:
+     * a tape whose gradient is never taken needs TP_SWEEP_VALUES, one
+     * used through tp_lagrange only TP_SWEEP_LAGRANGE. */
+    unsigned sweeps;
+    /* How many compilers may build the tape at once (0: the processors
+     * online, at most 8). A large tape is built in parts side by side,
+     * about one for every 500 ops, and linked; 1: in one piece. */
+    int jobs;
 } tp_compile_opts;
+#define TP_SWEEP_VALUES 1u
+#define TP_SWEEP_GRADIENTS 2u
+#define TP_SWEEP_LAGRANGE 4u
 
 typedef struct tp_compile_info {
     int cached;   /* 1: loaded from the cache, nothing was compiled */
     int rebuilt;  /* 1: a cache entry failed its checks and was rebuilt */
     double t_emit, t_compile, t_load, t_check; /* seconds */
     size_t source_bytes; /* size of the generated C source */
+    int parts;    /* compilers that built it side by side (0: not built) */
     char path[1024];     /* the shared object */
     char msg[512];       /* why it failed, or what was rebuilt and why */
 } tp_compile_info;
