@@ -2,20 +2,33 @@
  * state) of chains of rigid and flexible links, by every route:
  *
  *   tape        libeom's eom_rhs, as users call it;
+ *   compiled    eom_rhs on compiled tapes (eom_system_set_compiled, built
+ *               into a cache of this run's own);
  *   tuples      the same model source run on the embedded-tuple engine
  *               (eom_model_run_lagrangian), then the same Cholesky solve;
  *   hand-coded  rigid chains: M and the forces typed in closed form, then
  *               Cholesky (chain_plain.c): the limit of a Lagrangian route;
  *   ADOL-C      rigid chains, when built with it (bench/adolc): its vector
  *               forward-over-reverse driver, and hessian();
+ *   MuJoCo      rigid chains, when built with it (bench/mujoco): mj_forward
+ *               on the chain as an MJCF model, with setting its state and
+ *               reading its accelerations as absolute angles' (bench-peers
+ *               compares it in MuJoCo's own equations too);
+ *   SymPy       rigid chains that bench/sympy derived at build time: its
+ *               C for M and the forces, then the hand-coded route's
+ *               Cholesky;
  * each as a multiple of a plain compiled evaluation of L and of the
  * hand-coded right-hand side. Methods are interleaved in each repetition
  * (rotating order) and the table gives medians of the per-repetition
- * ratios; every method's qdd is checked against the tape's in the run.
+ * ratios; every method's qdd is checked against the tape's in the run
+ * (MuJoCo's, which works in other coordinates, by its backward error in
+ * libeom's equations, as bench-peers does).
  * A last table times LAPACK's Cholesky against a plain inline one for
  * tiny matrices (is a small-matrix path worth having?).
  *
  * usage: bench-rhs [--quick] [--reps R] */
+#define _POSIX_C_SOURCE 200809L
+
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -27,6 +40,12 @@
 #ifdef HAVE_ADOLC
 #include "adolc_rhs.h"
 #endif
+#ifdef HAVE_MUJOCO
+#include "mujoco_chain.h"
+#endif
+#ifdef HAVE_SYMPY
+#include "sympy_chains.h"
+#endif
 
 void dpotrf_(const char *uplo, const int *n, double *a, const int *lda,
              int *info, size_t uplo_len);
@@ -34,11 +53,11 @@ void dpotrs_(const char *uplo, const int *n, const int *nrhs,
              const double *a, const int *lda, double *b, const int *ldb,
              int *info, size_t uplo_len);
 
-enum { M_PLAIN, M_TAPE, M_TUPLE, M_HAND, M_ADOLC_VEC, M_ADOLC_HESS,
-       M_COUNT };
+enum { M_PLAIN, M_TAPE, M_COMPILED, M_TUPLE, M_HAND, M_ADOLC_VEC,
+       M_ADOLC_HESS, M_MUJOCO, M_SYMPY, M_COUNT };
 static const char *const mname[M_COUNT] = {
-    "plain L", "tape", "tuples", "hand-coded", "ADOL-C vector",
-    "ADOL-C hessian"};
+    "plain L", "tape", "compiled", "tuples", "hand-coded", "ADOL-C vector",
+    "ADOL-C hessian", "MuJoCo", "SymPy"};
 
 /* Embedded tuples hold n (2n + 1) doubles per value: beyond this many
  * coordinates a run would need gigabytes, so the route is skipped. */
@@ -51,11 +70,19 @@ typedef struct ctx {
     chain_plain cp;
     eom_model *model;
     eom_system *s;
+    eom_system *cs;     /* the same model on compiled tapes */
     tp_rec *tup;
     double *M, *g, *h;  /* tuple blocks */
     chain_hand *hand;
 #ifdef HAVE_ADOLC
     adolc_rhs *ad[2];
+#endif
+#ifdef HAVE_MUJOCO
+    mujoco_chain *mj;
+#endif
+#ifdef HAVE_SYMPY
+    sympy_chain_fn sym;
+    double *Ms, *fs;    /* SymPy's M and forces */
 #endif
     int have[M_COUNT];
     double sink;
@@ -78,6 +105,14 @@ static void run_tape(void *p)
     ctx *c = p;
     nudge(c);
     eom_rhs(c->s, 0.0, c->x, c->xd);
+    c->sink += c->qdd[0];
+}
+
+static void run_compiled(void *p)
+{
+    ctx *c = p;
+    nudge(c);
+    eom_rhs(c->cs, 0.0, c->x, c->xd);
     c->sink += c->qdd[0];
 }
 
@@ -131,17 +166,50 @@ static void run_adolc_hess(void *p)
 }
 #endif
 
+#ifdef HAVE_MUJOCO
+static void run_mujoco(void *p)
+{
+    ctx *c = p;
+    nudge(c);
+    mujoco_chain_set(c->mj, c->x);
+    mujoco_chain_forward(c->mj);
+    mujoco_chain_qdd(c->mj, c->qdd);
+    c->sink += c->qdd[0];
+}
+#endif
+
+#ifdef HAVE_SYMPY
+static void run_sympy(void *p)
+{
+    ctx *c = p;
+    nudge(c);
+    c->sym(c->cp.m, c->cp.L, c->cp.g, c->x, c->Ms, c->qdd);
+    chain_plain_solve(c->n, c->Ms, c->qdd);
+    c->sink += c->qdd[0];
+}
+#endif
+
 static void (*const mfn[M_COUNT])(void *) = {
-    run_plain, run_tape, run_tuple, run_hand,
+    run_plain, run_tape, run_compiled, run_tuple, run_hand,
 #ifdef HAVE_ADOLC
     run_adolc_vec, run_adolc_hess,
 #else
     NULL, NULL,
 #endif
+#ifdef HAVE_MUJOCO
+    run_mujoco,
+#else
+    NULL,
+#endif
+#ifdef HAVE_SYMPY
+    run_sympy,
+#else
+    NULL,
+#endif
 };
 
 static int setup(ctx *c, int links, int modes, double *mv, double *Lv,
-                 double *EIv)
+                 double *EIv, int compiled)
 {
     char msg[256] = "";
     memset(c, 0, sizeof *c);
@@ -159,6 +227,14 @@ static int setup(ctx *c, int links, int modes, double *mv, double *Lv,
     c->qdd = c->xd + c->n;
     chain_unequal_state(&c->cp, c->n, c->x);
     c->have[M_PLAIN] = c->have[M_TAPE] = 1;
+    if (compiled && eom_system_new(&c->cs, c->model, msg, sizeof msg) ==
+                        EOM_OK) {
+        if (eom_system_set_compiled(c->cs, 1, NULL) == EOM_OK)
+            c->have[M_COMPILED] = 1;
+        else
+            printf("compiled: not timed at n = %d: %s\n", c->n,
+                   eom_system_errmsg(c->cs));
+    }
     if (c->n <= TUPLE_MAX_N && tp_tuple_new(&c->tup, 2 * c->n, NULL) == 0) {
         c->M = calloc((size_t)c->n * (size_t)(c->n + 2), sizeof(double));
         c->g = c->M + (size_t)c->n * (size_t)c->n;
@@ -177,6 +253,26 @@ static int setup(ctx *c, int links, int modes, double *mv, double *Lv,
                           ADOLC_DRIVER_HESSIAN, 2) == 0;
     }
 #endif
+#ifdef HAVE_MUJOCO
+    if (modes == 0) {
+        char err[256];
+        c->mj = mujoco_chain_new(links, mv, Lv, c->cp.g, err, (int)sizeof err);
+        if (c->mj)
+            c->have[M_MUJOCO] = 1;
+        else
+            printf("MuJoCo: cannot load the %d-link chain: %s\n", links, err);
+    }
+#endif
+#ifdef HAVE_SYMPY
+    if (modes == 0) {
+        int k;
+        for (k = 0; sympy_chains[k].N && sympy_chains[k].N != links; k++)
+            ;
+        c->sym = sympy_chains[k].fn;
+        c->Ms = calloc((size_t)links * (size_t)links, sizeof(double));
+        c->have[M_SYMPY] = c->sym != NULL && c->Ms != NULL;
+    }
+#endif
     return 0;
 }
 
@@ -186,26 +282,51 @@ static void teardown(ctx *c)
     adolc_rhs_free(&c->ad[0]);
     adolc_rhs_free(&c->ad[1]);
 #endif
+#ifdef HAVE_MUJOCO
+    mujoco_chain_free(c->mj);
+#endif
+#ifdef HAVE_SYMPY
+    free(c->Ms);
+#endif
     chain_plain_hand_free(&c->hand);
     tp_rec_free(&c->tup);
+    eom_system_free(&c->cs);
     eom_system_free(&c->s);
     eom_model_free(&c->model);
     free(c->M);
     free(c->x);
 }
 
-/* The largest relative difference of each method's qdd from the tape's. */
+/* The largest relative difference of each method's qdd from the tape's;
+ * for MuJoCo, whose forward difference grows with M's condition number
+ * in its other coordinates (docs/benchmarks.md, section 10), the backward
+ * error |M (qdd_mujoco - qdd)| / (|M| |qdd|) in libeom's equations. */
 static double agreement(ctx *c, int k)
 {
     const int n = c->n;
-    double e = 0.0, scale = 0.0, *q = malloc((size_t)n * sizeof(double));
-    int i;
+    double e = 0.0, scale = 0.0, Mmax = 0.0;
+    double *q = malloc((size_t)n * (size_t)(n + 1) * sizeof(double)),
+           *M = q + n;
+    int i, j;
     if (!q)
         return INFINITY;
     mfn[k](c); /* writes c->qdd at a nudged point: redo the reference */
     memcpy(q, c->qdd, (size_t)n * sizeof(double));
     c->x[0] -= 1e-9;
     run_tape(c);
+    if (k == M_MUJOCO && eom_mass_matrix(c->s, c->x, M) == EOM_OK) {
+        for (i = 0; i < n; i++) {
+            double r = 0.0;
+            for (j = 0; j < n; j++) {
+                r += M[i * n + j] * (q[j] - c->qdd[j]);
+                Mmax = fmax(Mmax, fabs(M[i * n + j]));
+            }
+            e = fmax(e, fabs(r));
+            scale = fmax(scale, fabs(c->qdd[i]));
+        }
+        free(q);
+        return e / fmax(Mmax * scale, 1e-300);
+    }
     for (i = 0; i < n; i++) {
         e = fmax(e, fabs(q[i] - c->qdd[i]));
         scale = fmax(scale, fabs(c->qdd[i]));
@@ -223,7 +344,7 @@ typedef struct result {
 } result;
 
 static int measure(int links, int modes, int reps, double min_batch,
-                   result *r)
+                   int compiled, result *r)
 {
     double *mv = malloc(3 * (size_t)links * sizeof(double));
     double *rp[M_COUNT], *rh[M_COUNT], *tp = malloc((size_t)reps * 8);
@@ -231,7 +352,7 @@ static int measure(int links, int modes, int reps, double min_batch,
     ctx c;
     int k, i, rep;
     if (!mv || !tp || setup(&c, links, modes, mv, mv + links,
-                            mv + 2 * links) != 0)
+                            mv + 2 * links, compiled) != 0)
         return -1;
     memset(r, 0, sizeof *r);
     r->n = c.n;
@@ -371,7 +492,8 @@ int main(int argc, char **argv)
 {
     static const int rigid[] = {2, 5, 10, 20, 50};
     static const int flex[][2] = {{3, 2}, {5, 1}, {10, 2}, {20, 3}, {50, 3}};
-    int reps = 15, quick = 0, i, k, ok = 1;
+    char dir[] = "/tmp/bench-rhs-XXXXXX", cmd[128];
+    int reps = 15, quick = 0, i, k, ok = 1, mujoco_bad;
     double min_batch = 5e-3;
     for (i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--quick")) {
@@ -387,16 +509,19 @@ int main(int argc, char **argv)
     }
     if (reps < 1)
         return 2;
+    /* compiled tapes in a cache of this run's own: compiled cold */
+    if (mkdtemp(dir))
+        setenv("AUTOEOM_CACHE_DIR", dir, 1);
     printf("Right-hand side of chains of links: time as multiples of a "
            "plain compiled evaluation of L (median of %d interleaved "
            "repetitions); in brackets, as multiples of the hand-coded "
            "right-hand side\n\n| chain | n | plain L (us) |", reps);
     for (k = 1; k < M_COUNT; k++)
         printf(" %s |", mname[k]);
-    printf(" agreement |\n|---|---|---|");
+    printf(" agreement | MuJoCo: backward |\n|---|---|---|");
     for (k = 1; k < M_COUNT; k++)
         printf("---|");
-    printf("---|\n");
+    printf("---|---|\n");
     for (i = 0; i < 10; i++) {
         const int links = i < 5 ? rigid[i] : flex[i - 5][0];
         const int modes = i < 5 ? 0 : flex[i - 5][1];
@@ -404,7 +529,9 @@ int main(int argc, char **argv)
         double worst = 0.0;
         if (quick && (links > 5))
             continue;
-        if (measure(links, modes, reps, min_batch, &r) != 0)
+        /* compiled: cold, into this run's cache (--quick: small chains) */
+        if (measure(links, modes, reps, min_batch, !quick || links <= 2,
+                    &r) != 0)
             return 1;
         if (modes)
             printf("| %d links x %d mode%s | %d | %.2f |", links, modes,
@@ -421,12 +548,22 @@ int main(int argc, char **argv)
                 printf(" %.1f |", r.x_plain[k]);
             else
                 printf(" %.1f (%.2f) |", r.x_plain[k], r.x_hand[k]);
-            worst = fmax(worst, r.agree[k]);
+            if (k != M_MUJOCO)
+                worst = fmax(worst, r.agree[k]);
         }
-        printf(" %.1e |%s\n", worst, worst < 1e-9 ? "" : " DISAGREE");
-        ok &= worst < 1e-9;
+        printf(" %.1e |", worst);
+        if (isnan(r.agree[M_MUJOCO]))
+            printf(" - |");
+        else
+            printf(" %.1e |", r.agree[M_MUJOCO]);
+        mujoco_bad = r.agree[M_MUJOCO] > 1e-13;
+        printf("%s\n", worst < 1e-9 && !mujoco_bad ? "" : " DISAGREE");
+        ok &= worst < 1e-9 && !mujoco_bad;
         fflush(stdout);
     }
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    if (system(cmd) != 0)
+        fprintf(stderr, "bench-rhs: could not remove %s\n", dir);
     cholesky_table(reps, min_batch);
     return ok ? 0 : 1;
 }

@@ -159,7 +159,7 @@ int chain_plain_hand_rhs(chain_hand *h, const double *x, double *qdd)
 {
     const int N = h->N;
     double *s = h->sc, *co = h->sc + N;
-    int i, j, info = 0, one = 1;
+    int i, j;
     for (i = 0; i < N; i++) {
         s[i] = sin(x[i]);
         co[i] = cos(x[i]);
@@ -174,11 +174,17 @@ int chain_plain_hand_rhs(chain_hand *h, const double *x, double *qdd)
         }
         qdd[i] = f;
     }
-    if (N <= SMALL_CHOLESKY)
-        return small_cholesky_solve(N, h->M, qdd) == 0 ? 0 : -1;
-    dpotrf_("L", &N, h->M, &N, &info, 1);
+    return chain_plain_solve(N, h->M, qdd);
+}
+
+int chain_plain_solve(int n, double *M, double *b)
+{
+    int info = 0, one = 1;
+    if (n <= SMALL_CHOLESKY)
+        return small_cholesky_solve(n, M, b) == 0 ? 0 : -1;
+    dpotrf_("L", &n, M, &n, &info, 1);
     if (info != 0)
         return -1;
-    dpotrs_("L", &N, &one, h->M, &N, qdd, &N, &info, 1);
+    dpotrs_("L", &n, &one, M, &n, b, &n, &info, 1);
     return info;
 }

@@ -33,5 +33,9 @@ int chain_plain_hand_new(chain_hand **out, const chain_plain *c);
 void chain_plain_hand_free(chain_hand **h);
 /* qdd (N) at x = (theta, theta_dot); 0, or non-zero if M is singular. */
 int chain_plain_hand_rhs(chain_hand *h, const double *x, double *qdd);
+/* Solve M x = b for symmetric positive definite M (n x n, overwritten)
+ * with the hand-coded route's Cholesky; b becomes x. 0, or non-zero if M
+ * is not positive definite. */
+int chain_plain_solve(int n, double *M, double *b);
 
 #endif
