@@ -434,13 +434,16 @@ done:
     return rc;
 }
 
+/* Ops from which a tape counts as large for building it (below). */
+#define LARGE_TAPE 500u
+
 /* How many compilers build t side by side: one part for about every 500
  * ops (a part's compiler takes about half a second for them at -O1; fewer
  * ops would not pay for the extra link), at most the jobs allowed. */
 static int build_parts(const tp_tape *t, const tp_compile_opts *o)
 {
     long jobs = o && o->jobs > 0 ? o->jobs : sysconf(_SC_NPROCESSORS_ONLN);
-    long parts = 1 + (long)(t->n_ops / 500);
+    long parts = 1 + (long)(t->n_ops / LARGE_TAPE);
     if (jobs < 1)
         jobs = 1;
     if (parts > jobs)
@@ -475,8 +478,14 @@ int tp_compile(const tp_tape *t, const tp_compile_opts *o,
     if (!cc || !*cc)
         cc = "cc";
     flags = o && o->cflags ? o->cflags : getenv("AUTOEOM_CFLAGS");
+    /* The generated code writes each slot once where it is first needed,
+     * so the dead-store passes find next to nothing; on a large tape they
+     * took a quarter of the compile time (50 links: 2.2 s of processor
+     * time against 1.6 s; the code's instructions 0.2 % more). On small
+     * tapes, where compiling is quick anyway, they stay (1 to 2.5 % fewer
+     * instructions). */
     if (!flags)
-        flags = "-O1";
+        flags = t->n_ops >= LARGE_TAPE ? "-O1 -fno-dse -fno-tree-dse" : "-O1";
     if (cache_dir(o, dir, sizeof dir) != 0) {
         say(info, "no cache directory for compiled tapes (set "
                   "AUTOEOM_CACHE_DIR or HOME)");

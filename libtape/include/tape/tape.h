@@ -402,8 +402,9 @@ typedef struct tp_compile_opts {
     /* The compiler command, words separated by blanks (NULL or "": the
      * environment's CC, else "cc"). */
     const char *cc;
-    /* Its flags (NULL: the environment's AUTOEOM_CFLAGS, else "-O1");
-     * -fPIC -shared -ffp-contract=off are always added. Flags that change
+    /* Its flags (NULL: the environment's AUTOEOM_CFLAGS, else "-O1", and
+     * for a tape of 500 ops or more "-O1 -fno-dse -fno-tree-dse"); -fPIC
+     * -shared -ffp-contract=off are always added. Flags that change
      * rounding (-ffast-math) fail the check. */
     const char *cflags;
     /* The cache (NULL: $AUTOEOM_CACHE_DIR, else $XDG_CACHE_HOME/autoeom,
