@@ -493,7 +493,26 @@ typedef struct eom_opts {
                          (0 .. np-1), or np + i for the initial value of
                          state i (coordinate i for i < n, the rate of
                          coordinate i - n otherwise); copied */
+    int linear_solver; /* ida: the linear solver of its Newton iteration:
+                          EOM_LINSOL_AUTO (0, default) chooses by the
+                          structure of the iteration matrix, which comes
+                          from the model's tapes (docs/integrators.md,
+                          "Sparse iteration matrices"); EOM_LINSOL_DENSE
+                          (1) dense LU; EOM_LINSOL_SPARSE (2) KLU on a
+                          compressed-column matrix (not with
+                          dq_jacobian). bdf and esdirk are dense whatever
+                          is asked but EOM_LINSOL_SPARSE, which they
+                          refuse; methods without a Newton iteration
+                          ignore it. eom_stats.linear_solver says which
+                          was used */
 } eom_opts;
+
+/* eom_opts.linear_solver and eom_stats.linear_solver. */
+enum {
+    EOM_LINSOL_AUTO = 0,   /* options: choose; stats: no linear solver */
+    EOM_LINSOL_DENSE = 1,  /* dense LU (SUNLinSol_Dense) */
+    EOM_LINSOL_SPARSE = 2  /* KLU on a sparse matrix (SUNLinSol_KLU) */
+};
 
 /* The names eom_opts.erk_table accepts: the k-th for k = 0, 1, ..., then
  * NULL. */
@@ -546,6 +565,12 @@ typedef struct eom_stats {
                             singular positions) and held it at that floor,
                             which keeps the global error near this value
                             rather than near rtol and atol */
+    int linear_solver;   /* the Newton iteration's linear solver:
+                            EOM_LINSOL_DENSE, EOM_LINSOL_SPARSE, or 0 for
+                            methods without one (rk4, erk, adams) */
+    double jac_time;     /* seconds spent forming Jacobians or iteration
+                            matrices (bdf, ida, esdirk with the exact
+                            Jacobian; 0 otherwise), part of wall_time */
 } eom_stats;
 
 typedef struct eom_integ eom_integ;
