@@ -448,6 +448,7 @@ void eom_system_free(eom_system **sp)
     free(s->jres);
     free(s->jB);
     free(s->jy);
+    eom__jsparse_free(&s->jsp);
     free(s);
     *sp = NULL;
 }
