@@ -477,3 +477,22 @@ int eom__dae_linear_solver(eom_system *s, int requested, int dq,
         *choice = EOM_LINSOL_SPARSE;
     return EOM_OK;
 }
+
+int eom_dae_pattern_size(eom_system *s, int *unknowns, long *entries,
+                         int *colors)
+{
+    eom_dae_pattern p;
+    int rc;
+    if (!s)
+        return EOM_ERR_NULL;
+    s->msg[0] = '\0';
+    if ((rc = eom__dae_pattern(s, &p)) != EOM_OK)
+        return rc;
+    if (unknowns)
+        *unknowns = p.NY;
+    if (entries)
+        *entries = (long)p.nnz;
+    if (colors)
+        *colors = p.colors;
+    return EOM_OK;
+}

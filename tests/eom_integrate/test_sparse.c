@@ -165,14 +165,19 @@ static void patterns(void)
                                         "double-pendulum.eom"};
     eom_system *s;
     size_t k;
-    s = system_of(mass_line_model(12, 1));
+    s = system_of(mass_line_model(12, 1, 1));
     if (s) {
         compare("line of 12, 4 constraints", s, 25, 1);
         CHECK_INT(eom_set_baumgarte(s, 3.0, 5.0), EOM_OK);
         compare("  with Baumgarte", s, 25, 2);
         eom_system_free(&s);
     }
-    s = system_of(mass_line_model(40, 0));
+    s = system_of(mass_line_model(20, 1, 3));
+    if (s) {
+        compare("line of 20, reach 3", s, 10, 4);
+        eom_system_free(&s);
+    }
+    s = system_of(mass_line_model(40, 0, 1));
     if (s) {
         compare("line of 40, free", s, 10, 3);
         eom_system_free(&s);
@@ -213,7 +218,7 @@ static int run(eom_system *s, int linsol, double t_end, double *x,
 
 static void whole_runs(void)
 {
-    eom_system *s = system_of(mass_line_model(30, 1));
+    eom_system *s = system_of(mass_line_model(30, 1, 1));
     double xs[128], xd[128], d = 0.0;
     eom_stats ss, sd;
     char msg[1024] = "";
@@ -262,7 +267,7 @@ static void automatic(void)
                         files[k], st.linear_solver);
         eom_system_free(&s);
     }
-    s = system_of(mass_line_model(100, 1));
+    s = system_of(mass_line_model(100, 1, 1));
     if (s) {
         CHECK_INT(eom__dae_linear_solver(s, EOM_LINSOL_AUTO, 0, &choice),
                   EOM_OK);
@@ -300,7 +305,7 @@ static void bad_input(void)
 {
     static const eom_method refuse[] = {EOM_BDF, EOM_ESDIRK, EOM_ADAMS,
                                         EOM_RK4};
-    eom_system *s = system_of(mass_line_model(8, 1));
+    eom_system *s = system_of(mass_line_model(8, 1, 1));
     eom_integ *it = NULL;
     eom_opts o;
     double x[64];

@@ -7,6 +7,7 @@
 
 typedef struct line {
     int N;
+    int reach; /* springs from each mass to the next reach masses */
 } line;
 
 static int line_T(eom_ctx *c, void *user, tp_val *out)
@@ -25,26 +26,28 @@ static int line_T(eom_ctx *c, void *user, tp_val *out)
     return 0;
 }
 
-/* |r_i+1 - r_i| */
-static tp_val gap(eom_ctx *c, int i)
+/* |r_j - r_i| */
+static tp_val gap(eom_ctx *c, int i, int j)
 {
     tp_rec *R = eom_rec(c);
-    return tp_hypot(R, tp_sub(R, eom_q(c, 2 * i + 2), eom_q(c, 2 * i)),
-                    tp_sub(R, eom_q(c, 2 * i + 3), eom_q(c, 2 * i + 1)));
+    return tp_hypot(R, tp_sub(R, eom_q(c, 2 * j), eom_q(c, 2 * i)),
+                    tp_sub(R, eom_q(c, 2 * j + 1), eom_q(c, 2 * i + 1)));
 }
 
 static int line_V(eom_ctx *c, void *user, tp_val *out)
 {
     const line *ln = user;
     tp_rec *R = eom_rec(c);
-    tp_val *t = malloc(2 * (size_t)ln->N * sizeof *t);
+    tp_val *t = malloc((size_t)ln->N * (size_t)ln->reach * sizeof *t);
     tp_val a = eom_param(c, "a"), springs, heights;
-    int i;
+    int i, k, cnt = 0;
     if (!t)
         return 1;
     for (i = 0; i + 1 < ln->N; i++)
-        t[i] = tp_sqr(R, tp_sub(R, gap(c, i), a));
-    springs = tp_sum(R, ln->N - 1, t);
+        for (k = 1; k <= ln->reach && i + k < ln->N; k++)
+            t[cnt++] = tp_sqr(R, tp_sub(R, gap(c, i, i + k),
+                                        tp_mulc(R, a, (double)k)));
+    springs = tp_sum(R, cnt, t);
     for (i = 0; i < ln->N; i++)
         t[i] = eom_q(c, 2 * i + 1);
     heights = tp_sum(R, ln->N, t);
@@ -83,7 +86,7 @@ static int line_phi(eom_ctx *c, void *user, tp_val *out)
     out[0] = eom_q(c, 0);
     out[1] = eom_q(c, 1);
     out[2] = tp_sub(R, eom_q(c, 2 * N - 2), eom_param(c, "X"));
-    out[3] = tp_sub(R, tp_sqr(R, gap(c, j)), tp_sqr(R, d));
+    out[3] = tp_sub(R, tp_sqr(R, gap(c, j, j + 1)), tp_sqr(R, d));
     return 0;
 }
 
@@ -94,7 +97,7 @@ static void start(int N, double a, int i, double *x, double *y)
     *y = -0.05 * a * (N - 1) * sin(3.14159265358979323846 * i / (N - 1));
 }
 
-eom_model *mass_line_model(int N, int constrained)
+eom_model *mass_line_model(int N, int constrained, int reach)
 {
     const double a = 0.1;
     eom_model *md = NULL;
@@ -102,7 +105,7 @@ eom_model *mass_line_model(int N, int constrained)
     char name[32];
     double x, y, x1, y1;
     int i, j = N / 2 - 1;
-    if (N < 4 || eom_model_new(&md) != EOM_OK)
+    if (N < 4 || reach < 1 || reach >= N || eom_model_new(&md) != EOM_OK)
         return NULL;
     ln = malloc(sizeof *ln);
     if (!ln || eom_model_attach(md, ln, free) != EOM_OK) {
@@ -110,6 +113,7 @@ eom_model *mass_line_model(int N, int constrained)
         return NULL;
     }
     ln->N = N;
+    ln->reach = reach;
     for (i = 0; i < N; i++) {
         start(N, a, i, &x, &y);
         snprintf(name, sizeof name, "x%d", i);

@@ -4,8 +4,10 @@
  * nonlinear springs and dampers, under gravity, optionally constrained.
  *
  *   T = m/2 sum_i (xd_i^2 + yd_i^2)
- *   V = k/2 sum_i (|r_i+1 - r_i| - a)^2 + m g sum_i y_i
+ *   V = k/2 sum_i sum_s (|r_i+s - r_i| - s a)^2 + m g sum_i y_i
  *   R = c/2 sum_i |v_i+1 - v_i|^2
+ *   (s = 1 .. reach: reach 1 joins neighbours only; a larger reach
+ *   couples each mass to the next reach masses, to fill the matrices in)
  *   constraints (constrained != 0): the first mass pinned at the origin
  *   (x_0 = 0, y_0 = 0), the last on a vertical rail (x_N-1 = X), and a
  *   rigid link of the initial length d between the two middle masses
@@ -23,7 +25,8 @@
 
 #include "eom/eom.h"
 
-/* A new model of N >= 4 masses (free it with eom_model_free), or NULL. */
-eom_model *mass_line_model(int N, int constrained);
+/* A new model of N >= 4 masses, springs reaching 1 <= reach < N masses
+ * on (free it with eom_model_free), or NULL. */
+eom_model *mass_line_model(int N, int constrained, int reach);
 
 #endif

@@ -316,6 +316,15 @@ EOM_API int eom_state_jacobian(eom_system *s, double t, const double *x,
 EOM_API int eom_param_jacobian(eom_system *s, double t, const double *x,
                                double *B);
 
+/* The structure of ida's sparse iteration matrix dG/dY + cj dG/dY'
+ * (docs/integrators.md, "Sparse iteration matrices"), from the system's
+ * tapes and valid at every state: *unknowns = 2n + m + 1 (its size),
+ * *entries the entries that can be nonzero, *colors the directions of
+ * the forward sweep that fills it. Any output may be NULL. Computed on
+ * the first call (or ida's first sparse run) and kept. */
+EOM_API int eom_dae_pattern_size(eom_system *s, int *unknowns,
+                                 long *entries, int *colors);
+
 /* Quantities at a state; each evaluates what it needs. */
 EOM_API int eom_mass_matrix(eom_system *s, const double *x, double *M);
 /* C = dphi/dq (m x n) and phi (m, may be NULL) at q = x[0..n). */
