@@ -399,6 +399,8 @@ void eom_system_free(eom_system **sp)
     tape_free(&s->tR, last);
     tape_free(&s->tQ, last);
     tape_free(&s->tphi, last);
+    /* the sparse Jacobian's workspace replays the residual tape: first */
+    eom__jsparse_free(&s->jsp);
     tape_free(&s->tRes, last);
     if (last && s->shared) {
         int k;
@@ -448,7 +450,6 @@ void eom_system_free(eom_system **sp)
     free(s->jres);
     free(s->jB);
     free(s->jy);
-    eom__jsparse_free(&s->jsp);
     free(s);
     *sp = NULL;
 }
