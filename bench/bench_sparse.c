@@ -18,7 +18,8 @@
  * Each dense / sparse pair runs interleaved, reps times (default 3),
  * and the figures are the medians: the machine's cores are shared with
  * other jobs, so only ratios measured in one run mean anything.
- * Usage: bench-sparse [--quick] [--t-end T] [--reps R] [--sizes a,b,..]
+ * Usage: bench-sparse [--quick] [--section 1|2|3] [--t-end T] [--reps R]
+ *                     [--sizes a,b,..]
  * Prints markdown tables (docs/benchmarks.md, section 11).
  */
 #include <math.h>
@@ -164,13 +165,15 @@ static void crossover(const int *sizes, int nsizes, double t_end, int reps,
     int k;
     if (!reach_sweep) {
         printf("## Where sparse pays: t = 0 .. %g s\n\n", t_end);
-        printf("| N | unknowns | entries | dense s | sparse s | dense / "
-               "sparse | auto |\n|---|---|---|---|---|---|---|\n");
+        printf("| N | unknowns | entries | steps dense, sparse | dense s | "
+               "sparse s | dense / sparse | Jacobian s dense, sparse | "
+               "auto |\n|---|---|---|---|---|---|---|---|---|\n");
     } else {
         printf("## How sparse: N = %d, springs reaching r masses on, "
                "t = 0 .. %g s\n\n", N, t_end);
-        printf("| r | unknowns | entries | dense s | sparse s | dense / "
-               "sparse | auto |\n|---|---|---|---|---|---|---|\n");
+        printf("| r | unknowns | entries | steps dense, sparse | dense s | "
+               "sparse s | dense / sparse | Jacobian s dense, sparse | "
+               "auto |\n|---|---|---|---|---|---|---|---|---|\n");
     }
     for (k = 0; k < nsizes; k++) {
         const int n = reach_sweep ? N : sizes[k];
@@ -183,11 +186,12 @@ static void crossover(const int *sizes, int nsizes, double t_end, int reps,
         eom_dae_pattern_size(s, &unknowns, &entries, NULL);
         pair(s, t_end, reps, &d, &sp);
         run(s, EOM_LINSOL_AUTO, 1e-8, 1e-10, 1e-4, &a);
-        printf("| %d | %d | %ld (%.1f%%) | %.4f | %.4f | %.2f | %s |%s%s\n",
+        printf("| %d | %d | %ld (%.1f%%) | %ld, %ld | %.4f | %.4f | %.2f | "
+               "%.4f, %.4f | %s |%s%s\n",
                reach_sweep ? r : n, unknowns, entries,
                100.0 * (double)entries / ((double)unknowns * unknowns),
-               d.wall, sp.wall,
-               d.wall / sp.wall,
+               d.steps, sp.steps, d.wall, sp.wall, d.wall / sp.wall,
+               d.jac_time, sp.jac_time,
                a.linsol == EOM_LINSOL_SPARSE ? "sparse" : "dense", d.msg,
                sp.msg);
         fflush(stdout);
@@ -215,14 +219,17 @@ static int parse_sizes(const char *arg, int *sizes, int cap)
 int main(int argc, char **argv)
 {
     int sizes[16] = {50, 200, 1000}, nsizes = 3, reps = 3, quick = 0, k;
-    int small[] = {10, 20, 25, 35, 50, 75, 100};
-    int reach[] = {1, 2, 4, 8, 16, 32, 48};
+    int section = 0;
+    int small[] = {10, 20, 35, 50, 100};
+    int reach[] = {1, 4, 8, 12, 16, 24};
     double t_end = 0.1;
     for (k = 1; k < argc; k++) {
         if (strcmp(argv[k], "--quick") == 0)
             quick = 1;
         else if (strcmp(argv[k], "--t-end") == 0 && k + 1 < argc)
             t_end = atof(argv[++k]);
+        else if (strcmp(argv[k], "--section") == 0 && k + 1 < argc)
+            section = atoi(argv[++k]);
         else if (strcmp(argv[k], "--reps") == 0 && k + 1 < argc)
             reps = atoi(argv[++k]);
         else if (strcmp(argv[k], "--sizes") == 0 && k + 1 < argc) {
@@ -232,8 +239,8 @@ int main(int argc, char **argv)
                 return 2;
             }
         } else {
-            fprintf(stderr, "usage: bench-sparse [--quick] [--t-end T] "
-                    "[--reps R] [--sizes N,N,..]\n");
+            fprintf(stderr, "usage: bench-sparse [--quick] [--section 1|2|3] "
+                    "[--t-end T] [--reps R] [--sizes N,N,..]\n");
             return 2;
         }
     }
@@ -248,12 +255,13 @@ int main(int argc, char **argv)
         reps = 1;
         t_end = 0.01;
     }
-    whole_runs(sizes, nsizes, t_end, reps);
-    if (!quick) {
+    if (section == 0 || section == 1)
+        whole_runs(sizes, nsizes, t_end, reps);
+    if (!quick && (section == 0 || section == 2))
         crossover(small, (int)(sizeof small / sizeof small[0]), t_end / 4,
                   reps, 0);
+    if (!quick && (section == 0 || section == 3))
         crossover(reach, (int)(sizeof reach / sizeof reach[0]), t_end / 4,
                   reps, 1);
-    }
     return 0;
 }
