@@ -16,16 +16,19 @@
  *      the fraction of entries in the pattern (the fill bound).
  *
  * Each dense / sparse pair runs interleaved, reps times (default 3),
- * and the figures are the medians: the machine's cores are shared with
- * other jobs, so only ratios measured in one run mean anything.
+ * and the figures are the medians, in wall and in process CPU seconds:
+ * the machine's cores are shared with other jobs, so only ratios
+ * measured in one run mean anything, and the CPU ratio is the steadier.
  * Usage: bench-sparse [--quick] [--section 1|2|3] [--t-end T] [--reps R]
  *                     [--sizes a,b,..]
  * Prints markdown tables (docs/benchmarks.md, section 11).
  */
+#define _POSIX_C_SOURCE 200809L /* clock_gettime */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "bench_util.h"
 #include "eom/eom.h"
@@ -34,7 +37,7 @@
 typedef struct result {
     int status;
     long steps, jacs;
-    double wall, jac_time;
+    double wall, cpu, jac_time; /* cpu: this process's seconds */
     int linsol;
     double x[2 * 2000 + 1];
     char msg[256];
@@ -53,9 +56,19 @@ static eom_system *line(int N, int reach)
     return s;
 }
 
+/* The process's CPU seconds: less disturbed than the wall clock by the
+ * other jobs of a shared machine (they still share its caches). */
+static double cpu_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
 static void run(eom_system *s, int linsol, double rtol, double atol,
                 double t_end, result *r)
 {
+    double c0;
     eom_opts o;
     eom_integ *it = NULL;
     eom_stats st;
@@ -68,8 +81,10 @@ static void run(eom_system *s, int linsol, double rtol, double atol,
     eom_initial_state(s, r->x);
     r->msg[0] = '\0';
     r->status = eom_integ_new(&it, s, &o, 0.0, r->x);
+    c0 = cpu_now();
     if (r->status == EOM_OK)
         r->status = eom_integ_advance(it, t_end, r->x, &W);
+    r->cpu = cpu_now() - c0;
     if (r->status != EOM_OK)
         snprintf(r->msg, sizeof r->msg, "%s",
                  it ? eom_integ_errmsg(it) : eom_system_errmsg(s));
@@ -98,7 +113,7 @@ static double error_of(const result *a, const result *ref, int n2)
 static void pair(eom_system *s, double t_end, int reps, result *d,
                  result *sp)
 {
-    double wd[16], ws[16], jd[16], js[16];
+    double wd[16], ws[16], jd[16], js[16], cd[16], cs[16];
     int k;
     /* a first pair unmeasured: the first run of a process pays for
      * page faults and lazy set-up */
@@ -111,7 +126,11 @@ static void pair(eom_system *s, double t_end, int reps, result *d,
         ws[k] = sp->wall;
         jd[k] = d->jac_time;
         js[k] = sp->jac_time;
+        cd[k] = d->cpu;
+        cs[k] = sp->cpu;
     }
+    d->cpu = bench_median(cd, reps);
+    sp->cpu = bench_median(cs, reps);
     d->wall = bench_median(wd, reps);
     sp->wall = bench_median(ws, reps);
     d->jac_time = bench_median(jd, reps);
@@ -125,9 +144,9 @@ static void whole_runs(const int *sizes, int nsizes, double t_end, int reps)
     printf("## ida on the line of N masses, t = 0 .. %g s, rtol 1e-8, "
            "atol 1e-10 (medians of %d interleaved pairs)\n\n", t_end, reps);
     printf("| N | unknowns | entries | colours | solver | steps | "
-           "Jacobians | wall s | Jacobian s | error | dense / sparse wall | "
-           "Jacobian |\n");
-    printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+           "Jacobians | wall s | CPU s | Jacobian s | error | dense / sparse "
+           "wall | CPU | Jacobian |\n");
+    printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (k = 0; k < nsizes; k++) {
         eom_system *s = line(sizes[k], 1);
         const int n2 = 2 * 2 * sizes[k];
@@ -144,13 +163,14 @@ static void whole_runs(const int *sizes, int nsizes, double t_end, int reps)
         eom_dae_pattern_size(s, &unknowns, &entries, &colors);
         pair(s, t_end, reps, &d, &sp);
         printf("| %d | %d | %ld | %d | dense | %ld | %ld | %.3f | %.3f | "
-               "%.1e | | |%s\n", sizes[k], unknowns, entries, colors,
-               d.steps, d.jacs, d.wall, d.jac_time, error_of(&d, &ref, n2),
-               d.msg);
-        printf("| | | | | sparse | %ld | %ld | %.3f | %.3f | %.1e | %.1f | "
-               "%.1f |%s\n", sp.steps, sp.jacs, sp.wall, sp.jac_time,
-               error_of(&sp, &ref, n2), d.wall / sp.wall,
-               d.jac_time / sp.jac_time, sp.msg);
+               "%.3f | %.1e | | | |%s\n", sizes[k], unknowns, entries,
+               colors, d.steps, d.jacs, d.wall, d.cpu, d.jac_time,
+               error_of(&d, &ref, n2), d.msg);
+        printf("| | | | | sparse | %ld | %ld | %.3f | %.3f | %.3f | %.1e | "
+               "%.2f | %.2f | %.1f |%s\n", sp.steps, sp.jacs, sp.wall,
+               sp.cpu, sp.jac_time, error_of(&sp, &ref, n2),
+               d.wall / sp.wall, d.cpu / sp.cpu, d.jac_time / sp.jac_time,
+               sp.msg);
         fflush(stdout);
         eom_system_free(&s);
     }
@@ -165,15 +185,15 @@ static void crossover(const int *sizes, int nsizes, double t_end, int reps,
     int k;
     if (!reach_sweep) {
         printf("## Where sparse pays: t = 0 .. %g s\n\n", t_end);
-        printf("| N | unknowns | entries | steps dense, sparse | dense s | "
-               "sparse s | dense / sparse | Jacobian s dense, sparse | "
-               "auto |\n|---|---|---|---|---|---|---|---|---|\n");
+        printf("| N | unknowns | entries | steps dense, sparse | CPU s dense, "
+               "sparse | dense / sparse CPU | wall | Jacobian s dense, sparse "
+               "| auto |\n|---|---|---|---|---|---|---|---|---|\n");
     } else {
         printf("## How sparse: N = %d, springs reaching r masses on, "
                "t = 0 .. %g s\n\n", N, t_end);
-        printf("| r | unknowns | entries | steps dense, sparse | dense s | "
-               "sparse s | dense / sparse | Jacobian s dense, sparse | "
-               "auto |\n|---|---|---|---|---|---|---|---|---|\n");
+        printf("| r | unknowns | entries | steps dense, sparse | CPU s dense, "
+               "sparse | dense / sparse CPU | wall | Jacobian s dense, sparse "
+               "| auto |\n|---|---|---|---|---|---|---|---|---|\n");
     }
     for (k = 0; k < nsizes; k++) {
         const int n = reach_sweep ? N : sizes[k];
@@ -186,12 +206,12 @@ static void crossover(const int *sizes, int nsizes, double t_end, int reps,
         eom_dae_pattern_size(s, &unknowns, &entries, NULL);
         pair(s, t_end, reps, &d, &sp);
         run(s, EOM_LINSOL_AUTO, 1e-8, 1e-10, 1e-4, &a);
-        printf("| %d | %d | %ld (%.1f%%) | %ld, %ld | %.4f | %.4f | %.2f | "
-               "%.4f, %.4f | %s |%s%s\n",
+        printf("| %d | %d | %ld (%.1f%%) | %ld, %ld | %.4f, %.4f | %.2f | "
+               "%.2f | %.4f, %.4f | %s |%s%s\n",
                reach_sweep ? r : n, unknowns, entries,
                100.0 * (double)entries / ((double)unknowns * unknowns),
-               d.steps, sp.steps, d.wall, sp.wall, d.wall / sp.wall,
-               d.jac_time, sp.jac_time,
+               d.steps, sp.steps, d.cpu, sp.cpu, d.cpu / sp.cpu,
+               d.wall / sp.wall, d.jac_time, sp.jac_time,
                a.linsol == EOM_LINSOL_SPARSE ? "sparse" : "dense", d.msg,
                sp.msg);
         fflush(stdout);
