@@ -21,11 +21,11 @@
  * Curtis-Powell-Reid), so the sweep carries as many directions as there
  * are colours (a handful for a line of masses) instead of 3n + m, and
  * each entry is read back from its column's colour exactly: no other
- * column of that colour reaches its row. Rows denser than a bound (the
- * power P with dissipation over every rate, a constraint over many
- * coordinates) would force colours on all their columns; they are left
- * out of the colouring and come from one reverse sweep each
- * (tp_gradient). The entries are summed in the dense path's order, so
+ * column of that colour reaches its row. A few rows much denser than the
+ * rest (the power P with dissipation over every rate, a constraint over
+ * many coordinates) would force colours on all their columns; they are
+ * left out of the colouring and come from one reverse sweep each
+ * (tp_gradient; dense_row_bound says which). The entries are summed in the dense path's order, so
  * the two matrices agree to the rounding of those reverse rows (bit for
  * bit elsewhere).
  *
@@ -94,11 +94,35 @@ void eom__jsparse_free(eom_jsparse **p)
     *p = NULL;
 }
 
-/* Rows of more entries than this come from a reverse sweep: a dense row
- * would give each of its columns a colour of its own. */
-static int dense_row_bound(int nc)
+/* Rows of more entries than the bound returned come from a reverse
+ * sweep each: a row of d entries needs at least d colours, and a reverse
+ * sweep (values forward, adjoints back) costs about as much as
+ * REVERSE_COST directions of the forward sweep. The bound minimizes
+ * bound + REVERSE_COST x (rows above it), the colouring's lower bound
+ * plus the reverse sweeps: the damped power P, which reads every rate,
+ * goes reverse; rows of a banded pattern, however wide, stay coloured.
+ * Returns -1 out of memory. */
+#define REVERSE_COST 3
+static int dense_row_bound(const eom_jsparse *j)
 {
-    return 8 + 2 * (int)sqrt((double)nc);
+    size_t *hist = calloc((size_t)j->nc + 2, sizeof *hist);
+    size_t above = 0, best_cost = (size_t)-1;
+    int r, d, best = j->nc;
+    if (!hist)
+        return -1;
+    for (r = 0; r < j->nr; r++)
+        hist[j->rp[r + 1] - j->rp[r]]++;
+    /* bound d: rows of more than d entries go reverse */
+    for (d = j->nc; d >= 0; d--) {
+        const size_t cost = (size_t)d + REVERSE_COST * above;
+        if (cost <= best_cost) {
+            best_cost = cost;
+            best = d;
+        }
+        above += hist[d];
+    }
+    free(hist);
+    return best;
 }
 
 /* Greedy colouring of the columns of the rows not in rev: two columns
@@ -315,7 +339,8 @@ static int build(eom_system *s, eom_jsparse *j)
     j->rev = calloc((size_t)j->nr, 1);
     if (!j->rev)
         goto nomem;
-    bound = dense_row_bound(j->nc);
+    if ((bound = dense_row_bound(j)) < 0)
+        goto nomem;
     for (r = 0; r < j->nr; r++)
         j->rev[r] = j->rp[r + 1] - j->rp[r] > (size_t)bound;
     if (colour(j) != 0)
