@@ -471,11 +471,14 @@ int eom__dae_jacobian_sparse(eom_system *s, double t, const double *Y,
 }
 
 /* The automatic choice (docs/integrators.md, "Sparse iteration
- * matrices"; measured by bench-sparse, docs/benchmarks.md): below
- * SPARSE_MIN_NY unknowns dense LU is as fast whatever the pattern, and
- * the pattern is not even computed; above, sparse when at most
- * SPARSE_MAX_FILL of the entries can be nonzero. */
-#define SPARSE_MIN_NY 100
+ * matrices"; measured by bench-sparse, docs/benchmarks.md section 11):
+ * below SPARSE_MIN_NY unknowns dense LU, and the pattern is not even
+ * computed (the shipped models, 5 to 23 unknowns, ran as fast either
+ * way; the line of masses gained 1.2 times at 45); above, sparse when at
+ * most SPARSE_MAX_FILL of the entries can be nonzero (at 405 unknowns
+ * sparse gained 1.4 times at 6.5 % of the entries, 1.17 at 8.1 %, 1.03
+ * at 11.2 %). */
+#define SPARSE_MIN_NY 40
 #define SPARSE_MAX_FILL 0.1
 
 int eom__dae_linear_solver(eom_system *s, int requested, int dq,

@@ -13,8 +13,9 @@
  *   3. Whole runs: ida sparse and dense end 1 s of the constrained line
  *      of 30 masses within 1e-7 of each other, and eom_stats says which
  *      solver each used.
- *   4. The automatic choice: dense for the shipped models (chains of a
- *      few links: full M), sparse for a line of 100 masses.
+ *   4. The automatic choice: dense for the shipped models as shipped
+ *      (below the size bound) and as chains of 30 and 40 links (full M:
+ *      above the fill bound), sparse for a line of 100 masses.
  *   5. Bad input: a sparse request to bdf, esdirk or adams, with
  *      difference quotients, or out of range, is refused with a message.
  */
@@ -244,6 +245,25 @@ static void whole_runs(void)
     eom_system_free(&s);
 }
 
+/* A shipped model file with its structural setting name = value. */
+static eom_system *file_system_set(const char *file, const char *name,
+                                   long value)
+{
+    eom_file *f = NULL;
+    eom_model *md = NULL;
+    char err[512], path[1024];
+    snprintf(path, sizeof path, "%s/%s", models_dir, file);
+    if (eom_file_read(&f, path, err, sizeof err) != EOM_OK ||
+        eom_file_set_setting(f, name, value, err, sizeof err) != EOM_OK ||
+        eom_file_build(f, &md, err, sizeof err) != EOM_OK) {
+        CHECK_FAIL_("%s with %s = %ld: %s", file, name, value, err);
+        eom_file_free(&f);
+        return NULL;
+    }
+    eom_file_free(&f);
+    return system_of(md);
+}
+
 static void automatic(void)
 {
     static const char *const files[] = {
@@ -265,6 +285,30 @@ static void automatic(void)
         if (st.linear_solver != EOM_LINSOL_DENSE)
             CHECK_FAIL_("%s: the automatic choice is %d, not dense",
                         files[k], st.linear_solver);
+        eom_system_free(&s);
+    }
+    /* chains of many links, large enough for the size bound: their mass
+     * matrix is full, the iteration matrix dense by the fill bound */
+    s = file_system_set("open-chain.eom", "links", 40);
+    if (s) {
+        long entries = 0;
+        int unknowns = 0;
+        CHECK_INT(eom_dae_pattern_size(s, &unknowns, &entries, NULL),
+                  EOM_OK);
+        printf("open chain of 40 links: %d unknowns, %ld entries "
+               "(%.0f%%)\n", unknowns, entries,
+               100.0 * (double)entries / ((double)unknowns * unknowns));
+        CHECK(unknowns >= 100);
+        CHECK_INT(eom__dae_linear_solver(s, EOM_LINSOL_AUTO, 0, &choice),
+                  EOM_OK);
+        CHECK_INT(choice, EOM_LINSOL_DENSE);
+        eom_system_free(&s);
+    }
+    s = file_system_set("closed-chain.eom", "links", 30);
+    if (s) {
+        CHECK_INT(eom__dae_linear_solver(s, EOM_LINSOL_AUTO, 0, &choice),
+                  EOM_OK);
+        CHECK_INT(choice, EOM_LINSOL_DENSE);
         eom_system_free(&s);
     }
     s = system_of(mass_line_model(100, 1, 1));
