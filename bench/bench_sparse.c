@@ -21,6 +21,7 @@
  * measured in one run mean anything, and the CPU ratio is the steadier.
  * Usage: bench-sparse [--quick] [--section 1|2|3] [--t-end T] [--reps R]
  *                     [--sizes a,b,..]
+ * (--sizes: the N of sections 1 and 2, and the reaches of section 3.)
  * Prints markdown tables (docs/benchmarks.md, section 11).
  */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */
@@ -239,7 +240,8 @@ static int parse_sizes(const char *arg, int *sizes, int cap)
 int main(int argc, char **argv)
 {
     int sizes[16] = {50, 200, 1000}, nsizes = 3, reps = 3, quick = 0, k;
-    int section = 0;
+    int section = 0, given = 0; /* given: --sizes also lists the N of
+                                    section 2 and the reaches of 3 */
     int small[] = {10, 20, 35, 50, 100};
     int reach[] = {1, 4, 8, 12, 16, 24};
     double t_end = 0.1;
@@ -253,6 +255,7 @@ int main(int argc, char **argv)
         else if (strcmp(argv[k], "--reps") == 0 && k + 1 < argc)
             reps = atoi(argv[++k]);
         else if (strcmp(argv[k], "--sizes") == 0 && k + 1 < argc) {
+            given = 1;
             if (!(nsizes = parse_sizes(argv[++k], sizes, 16))) {
                 fprintf(stderr, "bench-sparse: --sizes takes N,N,.. "
                         "with 4 <= N <= 2000\n");
@@ -278,10 +281,12 @@ int main(int argc, char **argv)
     if (section == 0 || section == 1)
         whole_runs(sizes, nsizes, t_end, reps);
     if (!quick && (section == 0 || section == 2))
-        crossover(small, (int)(sizeof small / sizeof small[0]), t_end / 4,
-                  reps, 0);
+        crossover(given ? sizes : small,
+                  given ? nsizes : (int)(sizeof small / sizeof small[0]),
+                  t_end / 4, reps, 0);
     if (!quick && (section == 0 || section == 3))
-        crossover(reach, (int)(sizeof reach / sizeof reach[0]), t_end / 4,
-                  reps, 1);
+        crossover(given ? sizes : reach,
+                  given ? nsizes : (int)(sizeof reach / sizeof reach[0]),
+                  t_end / 4, reps, 1);
     return 0;
 }
