@@ -476,8 +476,8 @@ int eom__dae_jacobian_sparse(eom_system *s, double t, const double *Y,
  * computed (the shipped models, 5 to 23 unknowns, ran as fast either
  * way; the line of masses gained 1.2 times at 45); above, sparse when at
  * most SPARSE_MAX_FILL of the entries can be nonzero (at 405 unknowns
- * sparse gained 1.4 times at 6.5 % of the entries, 1.17 at 8.1 %, 1.03
- * at 11.2 %). */
+ * sparse gained 1.4 times at 6.5 % of the entries, 1.0 to 1.17 at 8.1 %,
+ * 1.03 to 1.09 at 11.2 %: the bound sits where the two are even). */
 #define SPARSE_MIN_NY 40
 #define SPARSE_MAX_FILL 0.1
 
