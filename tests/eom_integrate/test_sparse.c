@@ -285,6 +285,10 @@ static void automatic(void)
         if (st.linear_solver != EOM_LINSOL_DENSE)
             CHECK_FAIL_("%s: the automatic choice is %d, not dense",
                         files[k], st.linear_solver);
+        /* below the size bound the pattern is not even computed */
+        if (s->jsp != NULL)
+            CHECK_FAIL_("%s: the pattern was computed for %d unknowns",
+                        files[k], 2 * s->n + s->m + 1);
         eom_system_free(&s);
     }
     /* chains of many links, large enough for the size bound: their mass
