@@ -67,6 +67,7 @@ enum {
     OPT_ATOL,
     OPT_MAX_STEPS,
     OPT_MAX_ORDER,
+    OPT_LINEAR_SOLVER,
     OPT_TOL_PER_STEP,
     OPT_NO_PROJECT,
     OPT_BAUMGARTE,
@@ -92,6 +93,7 @@ static const struct option long_options[] = {
     {"atol", required_argument, NULL, OPT_ATOL},
     {"max-steps", required_argument, NULL, OPT_MAX_STEPS},
     {"max-order", required_argument, NULL, OPT_MAX_ORDER},
+    {"linear-solver", required_argument, NULL, OPT_LINEAR_SOLVER},
     {"tol-per-step", no_argument, NULL, OPT_TOL_PER_STEP},
     {"no-project", no_argument, NULL, OPT_NO_PROJECT},
     {"baumgarte", required_argument, NULL, OPT_BAUMGARTE},
@@ -154,6 +156,10 @@ static void help(void)
         "      --max-order K     adams, bdf, ida: the highest order used "
         "(adams 1..12,\n"
         "                        bdf and ida 1..5; default: the highest)\n"
+        "      --linear-solver S ida: auto, dense or sparse (KLU) for its "
+        "Newton\n"
+        "                        iteration (default auto: by the model's "
+        "structure)\n"
         "      --tol-per-step    hand adams, bdf, ida, esdirk and imex rtol "
         "and atol as given, for\n"
         "                        each"
@@ -321,6 +327,20 @@ static int max_order_arg(const char *text, int *out)
     return 0;
 }
 
+static int linear_solver_arg(const char *text, int *out)
+{
+    if (strcmp(text, "auto") == 0)
+        *out = EOM_LINSOL_AUTO;
+    else if (strcmp(text, "dense") == 0)
+        *out = EOM_LINSOL_DENSE;
+    else if (strcmp(text, "sparse") == 0)
+        *out = EOM_LINSOL_SPARSE;
+    else
+        return cli_usage_error("--linear-solver '%s': choose auto, dense or "
+                               "sparse", text);
+    return 0;
+}
+
 static int baumgarte_arg(const char *text, double *alpha, double *beta)
 {
     const char *comma = strchr(text, ',');
@@ -429,6 +449,9 @@ static int parse(int argc, char **argv, cli *c)
             break;
         case OPT_MAX_ORDER:
             rc = max_order_arg(optarg, &c->opts.max_order);
+            break;
+        case OPT_LINEAR_SOLVER:
+            rc = linear_solver_arg(optarg, &c->opts.linear_solver);
             break;
         case OPT_TOL_PER_STEP: c->opts.tol_per_step = 1; break;
         case OPT_NO_PROJECT: c->opts.project = 0; break;

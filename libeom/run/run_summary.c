@@ -44,8 +44,11 @@ void run_summary_print(const run_summary *r, FILE *f, const char *prog,
     fprintf(f, "%s: %s with %s: %ld row%s, t = 0 .. %.10g\n", prog, label,
             method, r->rows, r->rows == 1 ? "" : "s", r->t_last);
     fprintf(f, "  steps %ld, right-hand sides %ld, failed steps %ld, "
-            "Jacobians %ld\n", st->steps, st->rhs_evals, st->failures,
-            st->jac_evals);
+            "Jacobians %ld%s\n", st->steps, st->rhs_evals, st->failures,
+            st->jac_evals,
+            st->linear_solver == EOM_LINSOL_SPARSE  ? " (sparse, KLU)"
+            : st->linear_solver == EOM_LINSOL_DENSE ? " (dense LU)"
+                                                    : "");
     fprintf(f, "  wall time %.3g s (integrator %.3g s)\n", wall,
             st->wall_time);
     if (st->tol_reachable > 0.0)

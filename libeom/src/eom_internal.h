@@ -26,6 +26,7 @@
 #include <stdatomic.h>
 #include <stdbool.h>
 #include <stddef.h>
+#include <stdint.h>
 
 #include <suitesparse/klu.h>
 
@@ -150,6 +151,8 @@ struct eom_system {
      * workspace and the Jacobian's scratch are made on first use */
     eom_tape tRes;
     double *jz, *jres, *jB, *jy;
+    struct eom_jsparse *jsp; /* the sparse iteration matrix's structure
+                                (jacobian_sparse.c), made on first use */
     eom_shared *shared;                  /* the tapes' owners */
     bool compiled;   /* the workspaces run the shared compiled tapes */
     double alpha, beta;                  /* Baumgarte */
@@ -276,6 +279,35 @@ int eom__residual_jacobian(eom_system *s, double t, const double *x,
  * (2n + m + 1) square, column-major with leading dimension ldj. */
 int eom__dae_jacobian(eom_system *s, double t, const double *Y,
                       const double *Yp, double cj, double *J, int ldj);
+/* residual.c: z = (x, qdd, lambda, t, p) for the residual tape, into
+ * z[3n + m + 1 + np]. */
+void eom__residual_fill_z(const eom_system *s, double t, const double *x,
+                          const double *qdd, const double *lam, double *z);
+
+/* jacobian_sparse.c: IDA's iteration matrix as a sparse matrix. */
+typedef struct eom_jsparse eom_jsparse;
+void eom__jsparse_free(eom_jsparse **p);
+/* The structure of the sparse iteration matrix, owned by s (made on
+ * first use, from the residual tape's pattern): */
+typedef struct eom_dae_pattern {
+    int NY;                /* 2n + m + 1 */
+    size_t nnz;            /* entries */
+    const int64_t *colptr; /* [NY + 1] compressed columns */
+    const int64_t *rowind; /* [nnz] rows, ascending in each column */
+    int colors;            /* directions of the forward sweep */
+    int reverse_rows;      /* residual rows from a reverse sweep each */
+} eom_dae_pattern;
+int eom__dae_pattern(eom_system *s, eom_dae_pattern *p);
+/* The values of the iteration matrix dG/dY + cj dG/dY' (the dense one is
+ * eom__dae_jacobian) in the order of p's entries, into data[nnz]. */
+int eom__dae_jacobian_sparse(eom_system *s, double t, const double *Y,
+                             const double *Yp, double cj, double *data);
+/* The linear solver ida uses for s: requested (eom_opts.linear_solver)
+ * unless EOM_LINSOL_AUTO, then the rule of docs/integrators.md ("Sparse
+ * iteration matrices"); into *choice (EOM_LINSOL_DENSE or
+ * EOM_LINSOL_SPARSE). dq: difference quotients (dense only). */
+int eom__dae_linear_solver(eom_system *s, int requested, int dq,
+                           int *choice);
 
 /* rhs.c: the non-conservative generalized forces at (t, x), -dR/dqd + Q,
  * into s->Qv, and their power qd . Qv into s->power (uses s->wn). */

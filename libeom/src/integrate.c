@@ -47,6 +47,7 @@ void eom_opts_default(eom_opts *o)
     o->dq_jacobian = 0;
     o->n_sens = 0;
     o->sens = NULL;
+    o->linear_solver = EOM_LINSOL_AUTO;
 }
 
 int eom__integ_top_order(eom_method m)
@@ -218,7 +219,9 @@ int eom__integ_rhs(eom_integ *it, double t, const double *y, double *yd)
 int eom__integ_jacobian(eom_integ *it, double t, const double *y,
                         double *J, int ldj)
 {
+    const double t0 = eom__integ_now();
     int rc = eom__state_jacobian(it->s, t, y, J, ldj, 1);
+    it->st.jac_time += eom__integ_now() - t0;
     if (rc != EOM_OK)
         snprintf(it->msg, sizeof it->msg, "at t = %.17g: %s", t,
                  it->s->msg);
@@ -285,6 +288,11 @@ static double now(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+double eom__integ_now(void)
+{
+    return now();
+}
+
 static const eom_integ_ops *ops_of(eom_method m)
 {
     switch (m) {
@@ -328,6 +336,27 @@ static int check_opts(const eom_opts *o, int n, char *msg, size_t len)
                  eom__integ_top_order(o->method));
         return EOM_ERR_ARG;
     }
+    if (!bad && (o->linear_solver < EOM_LINSOL_AUTO ||
+                 o->linear_solver > EOM_LINSOL_SPARSE)) {
+        snprintf(msg, len, "linear_solver %d: 0 (auto), 1 (dense) or 2 "
+                 "(sparse)", o->linear_solver);
+        return EOM_ERR_ARG;
+    }
+    if (!bad && o->linear_solver == EOM_LINSOL_SPARSE &&
+        o->method != EOM_IDA) {
+        snprintf(msg, len, "linear_solver 2 (sparse): only ida has a "
+                 "sparse iteration matrix; %s %s (docs/integrators.md, "
+                 "\"Sparse iteration matrices\")",
+                 eom_method_name(o->method),
+                 o->method == EOM_BDF || o->method == EOM_ESDIRK
+                     ? "is dense"
+                     : "solves no linear systems");
+        return EOM_ERR_ARG;
+    }
+    if (!bad && o->linear_solver == EOM_LINSOL_SPARSE && o->dq_jacobian)
+        bad = "linear_solver 2 (sparse) needs the exact Jacobian: the "
+              "difference quotients (dq_jacobian 1) fill dense matrices "
+              "only";
     for (i = 0; o->atol_vec && !bad && i < 2 * n; i++)
         if (!(o->atol_vec[i] > 0.0 && isfinite(o->atol_vec[i]))) {
             snprintf(msg, len, "atol_vec[%d] = %g: every absolute "
@@ -464,6 +493,11 @@ int eom__integ_create(eom_integ **out, eom_system *s, const eom_opts *o,
     it->N = 2 * s->n + 1;
     it->t = t0;
     it->ops = ops_of(o->method);
+    /* ida's init says which it chose */
+    it->linsol = o->method == EOM_BDF || o->method == EOM_ESDIRK ||
+                         o->method == EOM_IDA
+                     ? EOM_LINSOL_DENSE
+                     : 0;
     it->y = malloc((size_t)it->N * sizeof(double));
     if (!it->y) {
         free(it->atolv);
@@ -625,6 +659,7 @@ int eom_integ_stats(const eom_integ *it, eom_stats *st)
     st->steps += it->handed.steps;
     st->failures += it->handed.failures;
     st->jac_evals += it->handed.jac_evals;
+    st->linear_solver = it->linsol;
     if (it->sub) {
         /* a stretch still under way */
         eom_stats b;
@@ -633,6 +668,7 @@ int eom_integ_stats(const eom_integ *it, eom_stats *st)
         st->steps += b.steps;
         st->failures += b.failures;
         st->jac_evals += b.jac_evals;
+        st->jac_time += it->sub->st.jac_time;
         st->rhs_evals += it->sub->st.rhs_evals;
         st->projections += it->sub->st.projections;
         st->max_residual = fmax(st->max_residual, it->sub->st.max_residual);

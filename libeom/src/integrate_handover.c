@@ -80,6 +80,7 @@ static void finish(eom_integ *it)
     bank(b, &it->handed);
     it->handed_reach = fmax(it->handed_reach, eom__integ_tol_reachable(b));
     it->st.rhs_evals += b->st.rhs_evals;
+    it->st.jac_time += b->st.jac_time;
     it->st.projections += b->st.projections;
     it->st.max_residual = fmax(it->st.max_residual, b->st.max_residual);
     eom_integ_free(&it->sub);

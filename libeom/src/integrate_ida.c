@@ -1,9 +1,11 @@
 /* integrate_ida.c - EOM_IDA: IDA, from IDAS (IDA with forward
  * sensitivities; variable-order BDF for implicit DAEs, Newton iteration,
- * dense direct linear solver) on the index-1 form of
- * Lagrange's equations, with the exact iteration matrix dG/dY + cj dG/dY'
+ * direct linear solver) on the index-1 form of Lagrange's equations, with the exact iteration matrix dG/dY + cj dG/dY'
  * from the residual tape (ida_jac), or with eom_opts.dq_jacobian IDA's
- * difference quotients, kept as a reference.
+ * difference quotients, kept as a reference. The matrix is dense (dense
+ * LU), or sparse (compressed columns, KLU) where its pattern, taken from
+ * the tapes, is sparse enough to pay (eom_opts.linear_solver,
+ * jacobian_sparse.c).
  *
  * Unknowns Y = (q, v, lambda, W): n + n + m + 1 values. Residuals
  *
@@ -61,8 +63,12 @@
 #include <sundials/sundials_context.h>
 #include <sunlinsol/sunlinsol_dense.h>
 #include <sunmatrix/sunmatrix_dense.h>
+#include <sunmatrix/sunmatrix_sparse.h>
 
 #include "integrate_internal.h"
+/* after eom_internal.h, whose <suitesparse/klu.h> stands for the <klu.h>
+ * this header would look for */
+#include <sunlinsol/sunlinsol_klu.h>
 
 typedef struct ida {
     SUNContext ctx;
@@ -70,8 +76,9 @@ typedef struct ida {
     N_Vector yy, yp;           /* [NY] Y and Y' */
     N_Vector id;               /* [NY] 1 differential, 0 algebraic */
     N_Vector ewt;              /* [NY] error weights */
-    SUNMatrix A;
-    SUNLinearSolver LS;
+    SUNMatrix A;               /* dense, or sparse (CSC) */
+    SUNLinearSolver LS;        /* dense LU, or KLU */
+    int sparse;                /* the sparse matrix and KLU */
     void *mem;                 /* IDA memory */
     double *w, *wd;            /* [N] a state (q, v, W) and its rate */
     long banked_steps, banked_fails, banked_jacs; /* before the last
@@ -148,6 +155,28 @@ static int ida_res(sunrealtype t, N_Vector yy, N_Vector yp, N_Vector rr,
     return ida_cb_result(it, d, EOM_OK);
 }
 
+/* The sparse matrix's pattern into A (jacobian_sparse.c); the same at
+ * every call, so KLU's symbolic analysis stays valid. */
+static int ida_pattern(eom_integ *it, SUNMatrix A)
+{
+    sunindextype *cp = SM_INDEXPTRS_S(A), *ri = SM_INDEXVALS_S(A);
+    eom_dae_pattern p;
+    size_t e;
+    int c, rc = eom__dae_pattern(it->s, &p);
+    if (rc != EOM_OK)
+        return rc;
+    if ((sunindextype)p.nnz > SM_NNZ_S(A) || p.NY != SM_COLUMNS_S(A))
+        return eom__fail(it->s, EOM_ERR_SOLVER, "the sparse matrix holds "
+                         "%ld entries of %ld columns, not the pattern's "
+                         "%zu of %d", (long)SM_NNZ_S(A),
+                         (long)SM_COLUMNS_S(A), p.nnz, p.NY);
+    for (c = 0; c <= p.NY; c++)
+        cp[c] = (sunindextype)p.colptr[c];
+    for (e = 0; e < p.nnz; e++)
+        ri[e] = (sunindextype)p.rowind[e];
+    return EOM_OK;
+}
+
 /* The iteration matrix dG/dY + cj dG/dY' (residual.c). */
 static int ida_jac(sunrealtype t, sunrealtype cj, N_Vector yy, N_Vector yp,
                    N_Vector rr, SUNMatrix A, void *user, N_Vector t1,
@@ -155,14 +184,23 @@ static int ida_jac(sunrealtype t, sunrealtype cj, N_Vector yy, N_Vector yp,
 {
     eom_integ *it = user;
     ida *d = it->impl;
+    const double t0 = eom__integ_now();
     int rc;
     (void)rr;
     (void)t1;
     (void)t2;
     (void)t3;
-    rc = eom__dae_jacobian(it->s, t, N_VGetArrayPointer(yy),
-                           N_VGetArrayPointer(yp), cj, SM_DATA_D(A),
-                           (int)SM_ROWS_D(A));
+    if (d->sparse) {
+        /* IDA zeroes the matrix, its pattern included, before this call */
+        if ((rc = ida_pattern(it, A)) == EOM_OK)
+            rc = eom__dae_jacobian_sparse(it->s, t, N_VGetArrayPointer(yy),
+                                          N_VGetArrayPointer(yp), cj,
+                                          SM_DATA_S(A));
+    } else
+        rc = eom__dae_jacobian(it->s, t, N_VGetArrayPointer(yy),
+                               N_VGetArrayPointer(yp), cj, SM_DATA_D(A),
+                               (int)SM_ROWS_D(A));
+    it->st.jac_time += eom__integ_now() - t0;
     if (rc != EOM_OK)
         snprintf(it->msg, sizeof it->msg, "at t = %.17g: %s", t,
                  it->s->msg);
@@ -301,6 +339,79 @@ static void ida_destroy(eom_integ *it)
     it->impl = NULL;
 }
 
+/* The iteration matrix and its linear solver: dense LU, or KLU on the
+ * sparse matrix whose pattern (fixed for the run: KLU's symbolic
+ * analysis is done once, each Jacobian refactors) is written here. */
+static int ida_matrix(eom_integ *it, ida *d)
+{
+    eom_dae_pattern p;
+    int choice, rc;
+    rc = eom__dae_linear_solver(it->s, it->o.linear_solver,
+                                it->o.dq_jacobian, &choice);
+    if (rc != EOM_OK) {
+        snprintf(it->msg, sizeof it->msg, "choosing the linear solver: %s",
+                 it->s->msg);
+        return rc;
+    }
+    d->sparse = choice == EOM_LINSOL_SPARSE;
+    it->linsol = choice;
+    if (!d->sparse) {
+        d->A = SUNDenseMatrix(d->NY, d->NY, d->ctx);
+        if (!d->A)
+            return eom__integ_nomem(it);
+        d->LS = SUNLinSol_Dense(d->yy, d->A, d->ctx);
+        return d->LS ? EOM_OK : eom__integ_nomem(it);
+    }
+    if ((rc = eom__dae_pattern(it->s, &p)) != EOM_OK) {
+        snprintf(it->msg, sizeof it->msg, "the sparse iteration matrix: %s",
+                 it->s->msg);
+        return rc;
+    }
+    d->A = SUNSparseMatrix(d->NY, d->NY, (sunindextype)p.nnz, CSC_MAT,
+                           d->ctx);
+    if (!d->A)
+        return eom__integ_nomem(it);
+    if ((rc = ida_pattern(it, d->A)) != EOM_OK) {
+        snprintf(it->msg, sizeof it->msg, "the sparse iteration matrix: %s",
+                 it->s->msg);
+        return rc;
+    }
+    d->LS = SUNLinSol_KLU(d->yy, d->A, d->ctx);
+    return d->LS ? EOM_OK : eom__integ_nomem(it);
+}
+
+/* What KLU said, when the sparse path failed in the linear solver: "" or
+ * a sentence, into buf. */
+static void ida_klu_why(const ida *d, int flag, char *buf, size_t len)
+{
+    sun_klu_common *k;
+    const char *what;
+    buf[0] = '\0';
+    if (!d->sparse || !d->LS ||
+        (flag != IDA_LSETUP_FAIL && flag != IDA_LSOLVE_FAIL))
+        return;
+    k = SUNLinSol_KLUGetCommon(d->LS);
+    if (!k)
+        return;
+    switch (k->status) {
+    case KLU_SINGULAR: what = "the iteration matrix is singular"; break;
+    case KLU_OUT_OF_MEMORY: what = "out of memory"; break;
+    case KLU_INVALID: what = "the matrix is invalid"; break;
+    case KLU_TOO_LARGE: what = "the matrix is too large"; break;
+    default: what = NULL; break;
+    }
+    if (what)
+        snprintf(buf, len, "KLU, factoring the sparse iteration matrix "
+                 "(%d x %d): %s (status %d); linear_solver 1 (dense) "
+                 "takes the dense path", d->NY, d->NY, what,
+                 (int)k->status);
+    else
+        snprintf(buf, len, "KLU, factoring the sparse iteration matrix "
+                 "(%d x %d): status %d, rcond %.3g; linear_solver 1 "
+                 "(dense) takes the dense path", d->NY, d->NY,
+                 (int)k->status, k->rcond);
+}
+
 /* IDA's options and linear solver, once IDAInit has run. */
 static int ida_setup(eom_integ *it, ida *d)
 {
@@ -329,12 +440,8 @@ static int ida_setup(eom_integ *it, ida *d)
         if ((flag = IDASetSuppressAlg(d->mem, SUNTRUE)) < 0)
             return ida_setup_failed(it, flag, "IDASetSuppressAlg");
     }
-    d->A = SUNDenseMatrix(d->NY, d->NY, d->ctx);
-    if (!d->A)
-        return eom__integ_nomem(it);
-    d->LS = SUNLinSol_Dense(d->yy, d->A, d->ctx);
-    if (!d->LS)
-        return eom__integ_nomem(it);
+    if ((flag = ida_matrix(it, d)) != EOM_OK)
+        return flag;
     if ((flag = IDASetLinearSolver(d->mem, d->LS, d->A)) < 0)
         return ida_setup_failed(it, flag, "IDASetLinearSolver");
     if (!it->o.dq_jacobian && (flag = IDASetJacFn(d->mem, ida_jac)) < 0)
@@ -597,8 +704,17 @@ static int ida_advance(eom_integ *it, double tout)
         return status;
     }
     /* it->y keeps the state at the last output time */
-    return eom__sun_failed(it, &d->rep, "ida", IDAGetReturnFlagName(flag),
-                           tcur);
+    status = eom__sun_failed(it, &d->rep, "ida", IDAGetReturnFlagName(flag),
+                             tcur);
+    {
+        char klu[256];
+        ida_klu_why(d, flag, klu, sizeof klu);
+        if (klu[0]) {
+            const size_t used = strlen(it->msg);
+            snprintf(it->msg + used, sizeof it->msg - used, "; %s", klu);
+        }
+    }
+    return status;
 }
 
 static void ida_stats(const eom_integ *it, eom_stats *st)

@@ -70,7 +70,12 @@ struct eom_integ {
     int *sens;           /* [o.n_sens] the inputs of the sensitivities */
     double *S;           /* [2n x o.n_sens] row-major: the sensitivities at
                             t (integrate_cvode.c) */
+    int linsol;          /* eom_stats.linear_solver: EOM_LINSOL_DENSE for
+                            bdf and esdirk, ida's choice, 0 otherwise */
 };
+
+/* Seconds on a monotonic clock (eom_stats.wall_time, jac_time). */
+double eom__integ_now(void);
 
 /* The highest order of a variable-order method (adams 12, bdf and ida
  * 5; 0 for the others), and the one an integrator uses (o.max_order, or

@@ -393,19 +393,24 @@ static int jac_ready(eom_system *s)
     return EOM_OK;
 }
 
+void eom__residual_fill_z(const eom_system *s, double t, const double *x,
+                          const double *qdd, const double *lam, double *z)
+{
+    const int n = s->n, m = s->m;
+    memcpy(z, x, 2 * (size_t)n * sizeof(double));
+    memcpy(z + 2 * n, qdd, (size_t)n * sizeof(double));
+    if (m > 0)
+        memcpy(z + 3 * n, lam, (size_t)m * sizeof(double));
+    z[3 * n + m] = t;
+    if (s->np > 0)
+        memcpy(z + 3 * n + m + 1, s->pval, (size_t)s->np * sizeof(double));
+}
+
 /* z = (x, qdd, lambda, t, p) into s->jz. */
 static void fill_z(eom_system *s, double t, const double *x,
                    const double *qdd, const double *lam)
 {
-    const int n = s->n, m = s->m;
-    memcpy(s->jz, x, 2 * (size_t)n * sizeof(double));
-    memcpy(s->jz + 2 * n, qdd, (size_t)n * sizeof(double));
-    if (m > 0)
-        memcpy(s->jz + 3 * n, lam, (size_t)m * sizeof(double));
-    s->jz[3 * n + m] = t;
-    if (s->np > 0)
-        memcpy(s->jz + 3 * n + m + 1, s->pval,
-               (size_t)s->np * sizeof(double));
+    eom__residual_fill_z(s, t, x, qdd, lam, s->jz);
 }
 
 int eom__residual_jacobian(eom_system *s, double t, const double *x,

@@ -399,6 +399,8 @@ void eom_system_free(eom_system **sp)
     tape_free(&s->tR, last);
     tape_free(&s->tQ, last);
     tape_free(&s->tphi, last);
+    /* the sparse Jacobian's workspace replays the residual tape: first */
+    eom__jsparse_free(&s->jsp);
     tape_free(&s->tRes, last);
     if (last && s->shared) {
         int k;

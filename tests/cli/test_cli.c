@@ -425,6 +425,8 @@ static void case_usage(void)
         {{"spring-pendulum", "--max-order", "0"}, 2, "1 to 12"},
         {{"spring-pendulum", "--max-order", "2.5"}, 2, "not an integer"},
         {{"spring-pendulum", "--max-order", "13"}, 2, "1 to 12"},
+        {{"spring-pendulum", "--linear-solver", "klu"}, 2,
+         "choose auto, dense or sparse"},
         {{"spring-pendulum", "--baumgarte", "1"}, 2, "ALPHA,BETA"},
         {{"spring-pendulum", "--baumgarte", "1,-2"}, 2, "must be >= 0"},
         {{"spring-pendulum", "--integrator", "euler"}, 2,
@@ -592,10 +594,38 @@ static void case_tolerances(void)
     CHECK(five > 0 && euler > 3.0 * five);
 }
 
+/* --linear-solver: ida's choice in the summary; sparse refused by bdf */
+static void case_linear_solver(void)
+{
+    char path[300];
+    const char *args[] = {"spring-pendulum", "--integrator", "ida",
+                          "--t-end", "0.2", "--out", path,
+                          "--linear-solver", NULL, NULL};
+    result r;
+    scratch(path, sizeof path, "out.csv");
+    args[8] = "sparse";
+    run(&r, args);
+    CHECK_INT(r.status, 0);
+    CHECK_HAS(r.err, "(sparse, KLU)");
+    result_free(&r);
+    args[8] = "auto"; /* a small model: dense */
+    run(&r, args);
+    CHECK_INT(r.status, 0);
+    CHECK_HAS(r.err, "(dense LU)");
+    result_free(&r);
+    args[2] = "bdf";
+    args[8] = "sparse";
+    run(&r, args);
+    CHECK(r.status != 0);
+    CHECK_HAS(r.err, "only ida has a sparse iteration matrix");
+    result_free(&r);
+}
+
 static const struct {
     const char *name;
     void (*fn)(void);
 } cases[] = {
+    {"linear-solver", case_linear_solver},
     {"list", case_list},       {"describe", case_describe},
     {"help", case_help},       {"csv", case_csv},
     {"grid", case_grid},       {"set", case_set},

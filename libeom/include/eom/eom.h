@@ -317,6 +317,15 @@ EOM_API int eom_state_jacobian(eom_system *s, double t, const double *x,
 EOM_API int eom_param_jacobian(eom_system *s, double t, const double *x,
                                double *B);
 
+/* The structure of ida's sparse iteration matrix dG/dY + cj dG/dY'
+ * (docs/integrators.md, "Sparse iteration matrices"), from the system's
+ * tapes and valid at every state: *unknowns = 2n + m + 1 (its size),
+ * *entries the entries that can be nonzero, *colors the directions of
+ * the forward sweep that fills it. Any output may be NULL. Computed on
+ * the first call (or ida's first sparse run) and kept. */
+EOM_API int eom_dae_pattern_size(eom_system *s, int *unknowns,
+                                 long *entries, int *colors);
+
 /* Quantities at a state; each evaluates what it needs. */
 EOM_API int eom_mass_matrix(eom_system *s, const double *x, double *M);
 /* C = dphi/dq (m x n) and phi (m, may be NULL) at q = x[0..n). */
@@ -509,7 +518,26 @@ typedef struct eom_opts {
                          coordinates (eom_project_start): the
                          sensitivities at t0 are tangent to the
                          constraints, not unit vectors */
+    int linear_solver; /* ida: the linear solver of its Newton iteration:
+                          EOM_LINSOL_AUTO (0, default) chooses by the
+                          structure of the iteration matrix, which comes
+                          from the model's tapes (docs/integrators.md,
+                          "Sparse iteration matrices"); EOM_LINSOL_DENSE
+                          (1) dense LU; EOM_LINSOL_SPARSE (2) KLU on a
+                          compressed-column matrix (not with
+                          dq_jacobian). bdf and esdirk are dense whatever
+                          is asked but EOM_LINSOL_SPARSE, which they
+                          refuse; methods without a Newton iteration
+                          ignore it. eom_stats.linear_solver says which
+                          was used */
 } eom_opts;
+
+/* eom_opts.linear_solver and eom_stats.linear_solver. */
+enum {
+    EOM_LINSOL_AUTO = 0,   /* options: choose; stats: no linear solver */
+    EOM_LINSOL_DENSE = 1,  /* dense LU (SUNLinSol_Dense) */
+    EOM_LINSOL_SPARSE = 2  /* KLU on a sparse matrix (SUNLinSol_KLU) */
+};
 
 /* The names eom_opts.erk_table accepts: the k-th for k = 0, 1, ..., then
  * NULL. */
@@ -564,6 +592,12 @@ typedef struct eom_stats {
                             singular positions) and held it at that floor,
                             which keeps the global error near this value
                             rather than near rtol and atol */
+    int linear_solver;   /* the Newton iteration's linear solver:
+                            EOM_LINSOL_DENSE, EOM_LINSOL_SPARSE, or 0 for
+                            methods without one (rk4, erk, adams) */
+    double jac_time;     /* seconds spent forming Jacobians or iteration
+                            matrices (bdf, ida, esdirk with the exact
+                            Jacobian; 0 otherwise), part of wall_time */
 } eom_stats;
 
 typedef struct eom_integ eom_integ;

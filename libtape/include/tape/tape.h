@@ -267,6 +267,24 @@ TP_API int tp_tape_equal(const tp_tape *a, const tp_tape *b,
  * (bit g for group g); with mask 0, the number of passive ops. */
 TP_API size_t tp_tape_count_dependent(const tp_tape *t, unsigned mask);
 
+/* The structural pattern of the Jacobian of t's outputs with respect to
+ * independents first .. first+count-1: entry (o, j) is in it when output
+ * o depends on independent first + j through some chain of ops (forward
+ * propagation of index sets), whatever the values of the independents
+ * and parameters. A superset of the entries that are nonzero at any
+ * point, never a subset: a partial that vanishes at some point, or
+ * everywhere, is still counted. Compressed rows: row o's columns
+ * (relative to first, ascending) are cols[rowptr[o] .. rowptr[o+1]-1].
+ * rowptr (n_out + 1 entries) is always written; rowptr[n_out] is the
+ * number of entries. cols may be NULL (count only: call again with cols
+ * of that many entries); cap is the number of entries cols holds.
+ * Returns TP_OK; TP_ERR_NULL (t or rowptr NULL); TP_ERR_SIZE (the range
+ * leaves the independents, or cap is too small: rowptr is then valid);
+ * TP_ERR_NOMEM (scratch of one word per op from the tape's allocator).
+ * Costs one pass over the tape per 64 columns. */
+TP_API int tp_tape_jacobian_pattern(const tp_tape *t, int first, int count,
+                                    size_t *rowptr, int *cols, size_t cap);
+
 /* ---- workspaces and sweeps -------------------------------------------- */
 
 /* Replay buffers for one thread. max_dirs >= 1 is the largest number of
