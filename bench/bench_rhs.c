@@ -556,7 +556,9 @@ int main(int argc, char **argv)
             printf(" - |");
         else
             printf(" %.1e |", r.agree[M_MUJOCO]);
-        mujoco_bad = r.agree[M_MUJOCO] > 1e-13;
+        /* its backward error in absolute angles grows with the chain:
+         * relative angles are a sum away (5e-13 at 50 unequal links) */
+        mujoco_bad = r.agree[M_MUJOCO] > 1e-12;
         printf("%s\n", worst < 1e-9 && !mujoco_bad ? "" : " DISAGREE");
         ok &= worst < 1e-9 && !mujoco_bad;
         fflush(stdout);
