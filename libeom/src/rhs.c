@@ -61,7 +61,16 @@
 #define EOM_SMALL_CHOLESKY 16
 
 /* LAPACK's dpotrf for small n: info = j + 1 at a non-positive pivot. */
-static int small_potrf(int n, double *A)
+/* The loops of the small path run a few times each: vectorized, their
+ * set-up cost more than the work (a 2 x 2 solve took 312 instructions);
+ * GCC keeps them plain here. */
+#if defined(__GNUC__) && !defined(__clang__)
+#define EOM_SCALAR_LOOPS __attribute__((optimize("no-tree-vectorize")))
+#else
+#define EOM_SCALAR_LOOPS
+#endif
+
+EOM_SCALAR_LOOPS static int small_potrf(int n, double *A)
 {
     int i, j, k;
     for (j = 0; j < n; j++) {
@@ -83,7 +92,8 @@ static int small_potrf(int n, double *A)
 }
 
 /* Solve L L^T X = B for nrhs columns of n (column-major). */
-static void small_potrs(int n, int nrhs, const double *A, double *B)
+EOM_SCALAR_LOOPS static void small_potrs(int n, int nrhs, const double *A,
+                                         double *B)
 {
     int c, i, k;
     for (c = 0; c < nrhs; c++) {
