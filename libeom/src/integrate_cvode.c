@@ -630,6 +630,35 @@ static int cv_retry_loose(eom_integ *it, cvode *c, double tret, double tout)
     return EOM_OK;
 }
 
+/* What KLU said, when the sparse path failed in the linear solver: "" or
+ * a sentence, into buf. */
+static void cv_klu_why(const cvode *c, int flag, char *buf, size_t len)
+{
+    sun_klu_common *k;
+    const char *what;
+    buf[0] = '\0';
+    if (!c->sparse || !c->LS ||
+        (flag != CV_LSETUP_FAIL && flag != CV_LSOLVE_FAIL))
+        return;
+    if (!(k = SUNLinSol_KLUGetCommon(c->LS)))
+        return;
+    switch (k->status) {
+    case KLU_SINGULAR: what = "the Newton matrix is singular"; break;
+    case KLU_OUT_OF_MEMORY: what = "out of memory"; break;
+    case KLU_INVALID: what = "the matrix is invalid"; break;
+    case KLU_TOO_LARGE: what = "the matrix is too large"; break;
+    default: what = NULL; break;
+    }
+    if (what)
+        snprintf(buf, len, "KLU, factoring the sparse Newton matrix: %s "
+                 "(status %d); linear_solver 1 (dense) takes the dense "
+                 "path", what, (int)k->status);
+    else
+        snprintf(buf, len, "KLU, factoring the sparse Newton matrix: "
+                 "status %d, rcond %.3g; linear_solver 1 (dense) takes "
+                 "the dense path", (int)k->status, k->rcond);
+}
+
 static int cv_advance(eom_integ *it, double tout)
 {
     cvode *c = it->impl;
@@ -691,8 +720,17 @@ static int cv_advance(eom_integ *it, double tout)
         return status;
     }
     /* it->y keeps the state at the last output time */
-    return eom__sun_failed(it, &c->rep, cv_name(it),
-                           CVodeGetReturnFlagName(flag), tcur);
+    status = eom__sun_failed(it, &c->rep, cv_name(it),
+                             CVodeGetReturnFlagName(flag), tcur);
+    {
+        char klu[256];
+        cv_klu_why(c, flag, klu, sizeof klu);
+        if (klu[0]) {
+            const size_t used = strlen(it->msg);
+            snprintf(it->msg + used, sizeof it->msg - used, "; %s", klu);
+        }
+    }
+    return status;
 }
 
 static void cv_stats(const eom_integ *it, eom_stats *st)
