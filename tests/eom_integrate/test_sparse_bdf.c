@@ -14,6 +14,7 @@
  *      masses (also stiffly damped) and of the 4 x 4 blocks line within
  *      1e-7 of each other, in steps within 10 % of each other, and
  *      eom_stats says which solver each used.
+ *      Sensitivities (to a parameter and an initial value) agree too.
  *   4. The automatic choice: dense for the shipped models (below the
  *      size bound, the pattern not even computed), for an open chain of
  *      40 links (full M: above the fill bound) and for constrained
@@ -276,6 +277,51 @@ static void whole_runs(void)
     }
 }
 
+/* Sensitivities (CVODES's staggered corrector with the same linear
+ * solver): to the stiffness k and to x_0's initial value, over 0.2 s of
+ * the free line of 20, sparse against dense. */
+static void sensitivities(void)
+{
+    eom_system *s = system_of(mass_line_model(20, 0, 1));
+    double S[2][80 * 2], x[81], W = 0.0, d = 0.0, big = 0.0;
+    int which[2], k, i;
+    if (!s)
+        return;
+    which[0] = eom_param_index(s, "k");
+    which[1] = eom_system_nparams(s); /* x_0's initial value */
+    for (k = 0; k < 2; k++) {
+        eom_opts o;
+        eom_integ *it = NULL;
+        eom_stats st;
+        eom_opts_default(&o);
+        o.method = EOM_BDF;
+        o.rtol = 1e-8;
+        o.atol = 1e-10;
+        o.n_sens = 2;
+        o.sens = which;
+        o.linear_solver = k == 0 ? EOM_LINSOL_SPARSE : EOM_LINSOL_DENSE;
+        eom_initial_state(s, x);
+        CHECK_INT(eom_integ_new(&it, s, &o, 0.0, x), EOM_OK);
+        if (!it)
+            continue;
+        CHECK_INT(eom_integ_advance(it, 0.2, x, &W), EOM_OK);
+        CHECK_INT(eom_integ_sensitivities(it, S[k]), EOM_OK);
+        eom_integ_stats(it, &st);
+        CHECK_INT(st.linear_solver, o.linear_solver);
+        eom_integ_free(&it);
+    }
+    for (i = 0; i < 80 * 2; i++) {
+        d = fmax(d, fabs(S[0][i] - S[1][i]));
+        big = fmax(big, fabs(S[1][i]));
+    }
+    printf("bdf sensitivities, line of 20: sparse - dense %.1e of %.1e\n",
+           d, big);
+    if (!(big > 0.0 && d <= 1e-6 * big))
+        CHECK_FAIL_("sensitivities: sparse and dense %.3g apart (largest "
+                    "%.3g)", d, big);
+    eom_system_free(&s);
+}
+
 static void automatic(void)
 {
     static const char *const files[] = {
@@ -394,6 +440,7 @@ int main(int argc, char **argv)
         models_dir = argv[1];
     patterns();
     whole_runs();
+    sensitivities();
     automatic();
     bad_input();
     CHECK_DONE();
