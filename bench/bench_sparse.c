@@ -14,12 +14,16 @@
  *   3. How sparse a pattern must be: N = 100 with springs reaching 1 .. 48
  *      masses on, which fills the matrix in; ratio of wall times against
  *      the fraction of entries in the pattern (the fill bound).
+ *   4. bdf on the free line (no constraints: M diagonal, so bdf's
+ *      Jacobian is sparse too, state_jacobian_sparse.c): whole runs at
+ *      N = 10, 20, 50, 200, sparse against dense, and bdf's automatic
+ *      choice.
  *
  * Each dense / sparse pair runs interleaved, reps times (default 3),
  * and the figures are the medians, in wall and in process CPU seconds:
  * the machine's cores are shared with other jobs, so only ratios
  * measured in one run mean anything, and the CPU ratio is the steadier.
- * Usage: bench-sparse [--quick] [--section 1|2|3] [--t-end T] [--reps R]
+ * Usage: bench-sparse [--quick] [--section 1|2|3|4] [--t-end T] [--reps R]
  *                     [--sizes a,b,..]
  * (--sizes: the N of sections 1 and 2, and the reaches of section 3.)
  * Prints markdown tables (docs/benchmarks.md, section 11).
@@ -44,9 +48,9 @@ typedef struct result {
     char msg[256];
 } result;
 
-static eom_system *line(int N, int reach)
+static eom_system *line(int N, int reach, int constrained)
 {
-    eom_model *md = mass_line_model(N, 1, reach);
+    eom_model *md = mass_line_model(N, constrained, reach);
     eom_system *s = NULL;
     char err[512];
     if (!md)
@@ -66,8 +70,8 @@ static double cpu_now(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-static void run(eom_system *s, int linsol, double rtol, double atol,
-                double t_end, result *r)
+static void run(eom_system *s, eom_method method, int linsol, double rtol,
+                double atol, double t_end, result *r)
 {
     double c0;
     eom_opts o;
@@ -75,7 +79,7 @@ static void run(eom_system *s, int linsol, double rtol, double atol,
     eom_stats st;
     double W = 0.0;
     eom_opts_default(&o);
-    o.method = EOM_IDA;
+    o.method = method;
     o.rtol = rtol;
     o.atol = atol;
     o.linear_solver = linsol;
@@ -111,18 +115,18 @@ static double error_of(const result *a, const result *ref, int n2)
 
 /* reps interleaved dense / sparse runs: medians of wall and Jacobian
  * time into the last of each. */
-static void pair(eom_system *s, double t_end, int reps, result *d,
-                 result *sp)
+static void pair(eom_system *s, eom_method method, double t_end, int reps,
+                 result *d, result *sp)
 {
     double wd[16], ws[16], jd[16], js[16], cd[16], cs[16];
     int k;
     /* a first pair unmeasured: the first run of a process pays for
      * page faults and lazy set-up */
-    run(s, EOM_LINSOL_DENSE, 1e-8, 1e-10, t_end / 10, d);
-    run(s, EOM_LINSOL_SPARSE, 1e-8, 1e-10, t_end / 10, sp);
+    run(s, method, EOM_LINSOL_DENSE, 1e-8, 1e-10, t_end / 10, d);
+    run(s, method, EOM_LINSOL_SPARSE, 1e-8, 1e-10, t_end / 10, sp);
     for (k = 0; k < reps; k++) {
-        run(s, EOM_LINSOL_DENSE, 1e-8, 1e-10, t_end, d);
-        run(s, EOM_LINSOL_SPARSE, 1e-8, 1e-10, t_end, sp);
+        run(s, method, EOM_LINSOL_DENSE, 1e-8, 1e-10, t_end, d);
+        run(s, method, EOM_LINSOL_SPARSE, 1e-8, 1e-10, t_end, sp);
         wd[k] = d->wall;
         ws[k] = sp->wall;
         jd[k] = d->jac_time;
@@ -149,11 +153,11 @@ static void whole_runs(const int *sizes, int nsizes, double t_end, int reps)
            "wall | CPU | Jacobian |\n");
     printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (k = 0; k < nsizes; k++) {
-        eom_system *s = line(sizes[k], 1);
+        eom_system *s = line(sizes[k], 1, 1);
         const int n2 = 2 * 2 * sizes[k];
         if (!s)
             continue;
-        run(s, EOM_LINSOL_SPARSE, 1e-12, 1e-14, t_end, &ref);
+        run(s, EOM_IDA, EOM_LINSOL_SPARSE, 1e-12, 1e-14, t_end, &ref);
         if (ref.status != EOM_OK) {
             printf("| %d | reference failed: %s |\n", sizes[k], ref.msg);
             eom_system_free(&s);
@@ -162,7 +166,7 @@ static void whole_runs(const int *sizes, int nsizes, double t_end, int reps)
         long entries = 0;
         int unknowns = 0, colors = 0;
         eom_dae_pattern_size(s, &unknowns, &entries, &colors);
-        pair(s, t_end, reps, &d, &sp);
+        pair(s, EOM_IDA, t_end, reps, &d, &sp);
         printf("| %d | %d | %ld | %d | dense | %ld | %ld | %.3f | %.3f | "
                "%.3f | %.1e | | | |%s\n", sizes[k], unknowns, entries,
                colors, d.steps, d.jacs, d.wall, d.cpu, d.jac_time,
@@ -199,14 +203,14 @@ static void crossover(const int *sizes, int nsizes, double t_end, int reps,
     for (k = 0; k < nsizes; k++) {
         const int n = reach_sweep ? N : sizes[k];
         const int r = reach_sweep ? sizes[k] : 1;
-        eom_system *s = line(n, r);
+        eom_system *s = line(n, r, 1);
         if (!s)
             continue;
         long entries = 0;
         int unknowns = 0;
         eom_dae_pattern_size(s, &unknowns, &entries, NULL);
-        pair(s, t_end, reps, &d, &sp);
-        run(s, EOM_LINSOL_AUTO, 1e-8, 1e-10, 1e-4, &a);
+        pair(s, EOM_IDA, t_end, reps, &d, &sp);
+        run(s, EOM_IDA, EOM_LINSOL_AUTO, 1e-8, 1e-10, 1e-4, &a);
         printf("| %d | %d | %ld (%.1f%%) | %ld, %ld | %.4f, %.4f | %.2f | "
                "%.2f | %.4f, %.4f | %s |%s%s\n",
                reach_sweep ? r : n, unknowns, entries,
@@ -215,6 +219,46 @@ static void crossover(const int *sizes, int nsizes, double t_end, int reps,
                d.wall / sp.wall, d.jac_time, sp.jac_time,
                a.linsol == EOM_LINSOL_SPARSE ? "sparse" : "dense", d.msg,
                sp.msg);
+        fflush(stdout);
+        eom_system_free(&s);
+    }
+    printf("\n");
+}
+
+/* Section 4: bdf on the free line (no constraints: its Jacobian is
+ * sparse, M being diagonal), dense against sparse, interleaved; the
+ * reference is bdf sparse at rtol 1e-12. */
+static void bdf_runs(const int *sizes, int nsizes, double t_end, int reps)
+{
+    static result ref, d, sp, a;
+    int k;
+    printf("## bdf on the free line of N masses, t = 0 .. %g s, rtol 1e-8, "
+           "atol 1e-10 (medians of %d interleaved pairs)\n\n", t_end, reps);
+    printf("| N | unknowns | solver | steps | Jacobians | wall s | CPU s | "
+           "Jacobian s | error | dense / sparse wall | CPU | Jacobian | "
+           "auto |\n");
+    printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+    for (k = 0; k < nsizes; k++) {
+        eom_system *s = line(sizes[k], 1, 0);
+        const int n2 = 2 * 2 * sizes[k];
+        if (!s)
+            continue;
+        run(s, EOM_BDF, EOM_LINSOL_SPARSE, 1e-12, 1e-14, t_end, &ref);
+        if (ref.status != EOM_OK) {
+            printf("| %d | reference failed: %s |\n", sizes[k], ref.msg);
+            eom_system_free(&s);
+            continue;
+        }
+        pair(s, EOM_BDF, t_end, reps, &d, &sp);
+        run(s, EOM_BDF, EOM_LINSOL_AUTO, 1e-8, 1e-10, 1e-4, &a);
+        printf("| %d | %d | dense | %ld | %ld | %.3f | %.3f | %.4f | %.1e | "
+               "| | | |%s\n", sizes[k], n2 + 1, d.steps, d.jacs, d.wall,
+               d.cpu, d.jac_time, error_of(&d, &ref, n2), d.msg);
+        printf("| | | sparse | %ld | %ld | %.3f | %.3f | %.4f | %.1e | %.2f "
+               "| %.2f | %.1f | %s |%s\n", sp.steps, sp.jacs, sp.wall,
+               sp.cpu, sp.jac_time, error_of(&sp, &ref, n2),
+               d.wall / sp.wall, d.cpu / sp.cpu, d.jac_time / sp.jac_time,
+               a.linsol == EOM_LINSOL_SPARSE ? "sparse" : "dense", sp.msg);
         fflush(stdout);
         eom_system_free(&s);
     }
@@ -244,6 +288,7 @@ int main(int argc, char **argv)
                                     section 2 and the reaches of 3 */
     int small[] = {10, 20, 35, 50, 100};
     int reach[] = {1, 4, 8, 12, 16, 24};
+    int bdf_sizes[] = {10, 20, 50, 200};
     double t_end = 0.1;
     for (k = 1; k < argc; k++) {
         if (strcmp(argv[k], "--quick") == 0)
@@ -262,7 +307,7 @@ int main(int argc, char **argv)
                 return 2;
             }
         } else {
-            fprintf(stderr, "usage: bench-sparse [--quick] [--section 1|2|3] "
+            fprintf(stderr, "usage: bench-sparse [--quick] [--section 1|2|3|4] "
                     "[--t-end T] [--reps R] [--sizes N,N,..]\n");
             return 2;
         }
@@ -288,5 +333,9 @@ int main(int argc, char **argv)
         crossover(given ? sizes : reach,
                   given ? nsizes : (int)(sizeof reach / sizeof reach[0]),
                   t_end / 4, reps, 1);
+    if (section == 4 || (!quick && section == 0))
+        bdf_runs(given ? sizes : bdf_sizes,
+                 given ? nsizes : (int)(sizeof bdf_sizes / sizeof bdf_sizes[0]),
+                 t_end, reps);
     return 0;
 }

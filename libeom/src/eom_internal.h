@@ -153,6 +153,8 @@ struct eom_system {
     double *jz, *jres, *jB, *jy;
     struct eom_jsparse *jsp; /* the sparse iteration matrix's structure
                                 (jacobian_sparse.c), made on first use */
+    struct eom_ssparse *ssp; /* bdf's sparse Jacobian's structure
+                                (state_jacobian_sparse.c), likewise */
     eom_shared *shared;                  /* the tapes' owners */
     bool compiled;   /* the workspaces run the shared compiled tapes */
     double alpha, beta;                  /* Baumgarte */
@@ -307,6 +309,36 @@ int eom__dae_jacobian_sparse(eom_system *s, double t, const double *Y,
  * iteration matrices"); into *choice (EOM_LINSOL_DENSE or
  * EOM_LINSOL_SPARSE). dq: difference quotients (dense only). */
 int eom__dae_linear_solver(eom_system *s, int requested, int dq,
+                           int *choice);
+
+/* state_jacobian_sparse.c: bdf's d(yd)/dy, y = (q, qd, W), as a sparse
+ * matrix, for models without constraints. */
+typedef struct eom_ssparse eom_ssparse;
+void eom__ssparse_free(eom_ssparse **p);
+/* Its structure, owned by s (made on first use from the residual tape's
+ * pattern; EOM_ERR_ARG when s has constraints): */
+typedef struct eom_ode_pattern {
+    int N;                 /* 2n + 1 */
+    size_t nnz;            /* entries, the whole diagonal included */
+    const int64_t *colptr; /* [N + 1] compressed columns */
+    const int64_t *rowind; /* [nnz] rows, ascending in each column */
+    int colors;            /* directions of the forward sweep */
+    int reverse_rows;      /* 1 when the power row is a reverse sweep */
+    int blocks;            /* connected components of M's pattern */
+    int largest_block;     /* coordinates in the largest */
+} eom_ode_pattern;
+int eom__ode_pattern(eom_system *s, eom_ode_pattern *p);
+/* The values of d(yd)/dy at (t, y) (the dense one is eom__state_jacobian
+ * with its power row) in the order of p's entries, into data[nnz];
+ * evaluates s at (t, y). */
+int eom__state_jacobian_sparse(eom_system *s, double t, const double *y,
+                               double *data);
+/* The linear solver bdf uses for s: requested (eom_opts.linear_solver)
+ * unless EOM_LINSOL_AUTO, then ida's rule on bdf's matrix; into *choice.
+ * A sparse request is refused (EOM_ERR_ARG, with the reason in s) with
+ * constraints, difference quotients, or one block of M over more than
+ * half the coordinates. */
+int eom__ode_linear_solver(eom_system *s, int requested, int dq,
                            int *choice);
 
 /* rhs.c: the non-conservative generalized forces at (t, x), -dR/dqd + Q,

@@ -343,14 +343,13 @@ static int check_opts(const eom_opts *o, int n, char *msg, size_t len)
         return EOM_ERR_ARG;
     }
     if (!bad && o->linear_solver == EOM_LINSOL_SPARSE &&
-        o->method != EOM_IDA) {
-        snprintf(msg, len, "linear_solver 2 (sparse): only ida has a "
-                 "sparse iteration matrix; %s %s (docs/integrators.md, "
-                 "\"Sparse iteration matrices\")",
+        o->method != EOM_IDA && o->method != EOM_BDF) {
+        snprintf(msg, len, "linear_solver 2 (sparse): only ida and bdf "
+                 "have a sparse iteration matrix; %s %s "
+                 "(docs/integrators.md, \"Sparse iteration matrices\")",
                  eom_method_name(o->method),
-                 o->method == EOM_BDF || o->method == EOM_ESDIRK
-                     ? "is dense"
-                     : "solves no linear systems");
+                 o->method == EOM_ESDIRK ? "is dense"
+                                         : "solves no linear systems");
         return EOM_ERR_ARG;
     }
     if (!bad && o->linear_solver == EOM_LINSOL_SPARSE && o->dq_jacobian)
@@ -493,7 +492,7 @@ int eom__integ_create(eom_integ **out, eom_system *s, const eom_opts *o,
     it->N = 2 * s->n + 1;
     it->t = t0;
     it->ops = ops_of(o->method);
-    /* ida's init says which it chose */
+    /* ida's and bdf's init say which they chose */
     it->linsol = o->method == EOM_BDF || o->method == EOM_ESDIRK ||
                          o->method == EOM_IDA
                      ? EOM_LINSOL_DENSE

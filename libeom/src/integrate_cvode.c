@@ -4,11 +4,15 @@
  *
  *   Adams  CV_ADAMS (Adams-Moulton, orders 1..12) with the fixed-point
  *          nonlinear solver: no Jacobian, for non-stiff models.
- *   BDF    CV_BDF (orders 1..5) with Newton iteration and a dense direct
- *          linear solver (SUNDenseMatrix + SUNLinSol_Dense); the Jacobian
- *          is exact, from the residual tape (cv_jac, residual.c), or with
+ *   BDF    CV_BDF (orders 1..5) with Newton iteration and a direct
+ *          linear solver: dense LU (SUNDenseMatrix + SUNLinSol_Dense), or
+ *          on models without constraints whose mass matrix is block
+ *          diagonal in small blocks, KLU on a sparse matrix whose pattern
+ *          comes from the tapes (eom_opts.linear_solver,
+ *          state_jacobian_sparse.c). The Jacobian is exact, from the
+ *          residual tape (cv_jac, residual.c), or with
  *          eom_opts.dq_jacobian CVODE's difference quotient (N extra
- *          right-hand sides each), kept as a reference.
+ *          right-hand sides each, dense only), kept as a reference.
  *
  * Output times: each advance sets the stop time to tout, so the solver
  * never steps past it and the state returned is the step that ends there.
@@ -63,16 +67,21 @@
 #include <sundials/sundials_context.h>
 #include <sunlinsol/sunlinsol_dense.h>
 #include <sunmatrix/sunmatrix_dense.h>
+#include <sunmatrix/sunmatrix_sparse.h>
 #include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
 
 #include "integrate_internal.h"
+/* after eom_internal.h, whose <suitesparse/klu.h> stands for the <klu.h>
+ * this header would look for */
+#include <sunlinsol/sunlinsol_klu.h>
 
 typedef struct cvode {
     SUNContext ctx;
     N_Vector y;                /* [N] the solver's state */
     N_Vector ewt;              /* [N] error weights (Adams with projection) */
-    SUNMatrix A;               /* BDF: dense Jacobian */
-    SUNLinearSolver LS;        /* BDF: dense LU */
+    SUNMatrix A;               /* BDF: Jacobian, dense or sparse (CSC) */
+    SUNLinearSolver LS;        /* BDF: dense LU, or KLU */
+    int sparse;                /* BDF: the sparse matrix and KLU */
     SUNNonlinearSolver NLS;    /* Adams: fixed point */
     void *mem;                 /* CVODE memory */
     double *w;                 /* [N] a projected copy of a state */
@@ -155,21 +164,57 @@ static int cv_sens_rhs(int ns, sunrealtype t, N_Vector y, N_Vector yd,
     return cv_cb_result(it, c, rc);
 }
 
-/* BDF's Newton matrix: the exact d(yd)/dy, W's row included. */
+/* The sparse matrix's pattern into A (state_jacobian_sparse.c); the
+ * same at every call, so KLU's symbolic analysis stays valid. */
+static int cv_pattern(eom_integ *it, SUNMatrix A)
+{
+    sunindextype *cp = SM_INDEXPTRS_S(A), *ri = SM_INDEXVALS_S(A);
+    eom_ode_pattern p;
+    size_t e;
+    int col, rc = eom__ode_pattern(it->s, &p);
+    if (rc != EOM_OK)
+        return rc;
+    if ((sunindextype)p.nnz > SM_NNZ_S(A) || p.N != SM_COLUMNS_S(A))
+        return eom__fail(it->s, EOM_ERR_SOLVER, "the sparse matrix holds "
+                         "%ld entries of %ld columns, not the pattern's "
+                         "%zu of %d", (long)SM_NNZ_S(A),
+                         (long)SM_COLUMNS_S(A), p.nnz, p.N);
+    for (col = 0; col <= p.N; col++)
+        cp[col] = (sunindextype)p.colptr[col];
+    for (e = 0; e < p.nnz; e++)
+        ri[e] = (sunindextype)p.rowind[e];
+    return EOM_OK;
+}
+
+/* BDF's Newton matrix: the exact d(yd)/dy, W's row included; CVODE
+ * forms I - gamma J from it. */
 static int cv_jac(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J,
                   void *user, N_Vector t1, N_Vector t2, N_Vector t3)
 {
     eom_integ *it = user;
     cvode *c = it->impl;
+    double t0;
+    int rc;
     (void)fy;
     (void)t1;
     (void)t2;
     (void)t3;
     c->have_last = 0; /* it evaluates at its own state */
-    return cv_cb_result(it, c,
-                        eom__integ_jacobian(it, t, N_VGetArrayPointer(y),
-                                            SM_DATA_D(J),
-                                            (int)SM_ROWS_D(J)));
+    if (!c->sparse)
+        return cv_cb_result(it, c,
+                            eom__integ_jacobian(it, t, N_VGetArrayPointer(y),
+                                                SM_DATA_D(J),
+                                                (int)SM_ROWS_D(J)));
+    t0 = eom__integ_now();
+    /* CVODE zeroes the matrix, its pattern included, before this call */
+    if ((rc = cv_pattern(it, J)) == EOM_OK)
+        rc = eom__state_jacobian_sparse(it->s, t, N_VGetArrayPointer(y),
+                                        SM_DATA_S(J));
+    it->st.jac_time += eom__integ_now() - t0;
+    if (rc != EOM_OK)
+        snprintf(it->msg, sizeof it->msg, "at t = %.17g: %s", t,
+                 it->s->msg);
+    return cv_cb_result(it, c, rc);
 }
 
 /* e[0..n) -= Y S^-1 C e[0..n): the M-orthogonal projection onto the null
@@ -296,11 +341,52 @@ static void cv_destroy(eom_integ *it)
     it->impl = NULL;
 }
 
+/* BDF's matrix and linear solver: dense LU, or KLU on the sparse matrix
+ * whose pattern (fixed for the run: KLU's symbolic analysis is done
+ * once, each Jacobian refactors) is written here. */
+static int cv_matrix(eom_integ *it, cvode *c)
+{
+    eom_ode_pattern p;
+    int choice, rc;
+    rc = eom__ode_linear_solver(it->s, it->o.linear_solver,
+                                it->o.dq_jacobian, &choice);
+    if (rc != EOM_OK) {
+        snprintf(it->msg, sizeof it->msg, "choosing the linear solver: %s",
+                 it->s->msg);
+        return rc;
+    }
+    c->sparse = choice == EOM_LINSOL_SPARSE;
+    it->linsol = choice;
+    if (!c->sparse) {
+        c->A = SUNDenseMatrix(it->N, it->N, c->ctx);
+        if (!c->A)
+            return eom__integ_nomem(it);
+        c->LS = SUNLinSol_Dense(c->y, c->A, c->ctx);
+        return c->LS ? EOM_OK : eom__integ_nomem(it);
+    }
+    if ((rc = eom__ode_pattern(it->s, &p)) != EOM_OK) {
+        snprintf(it->msg, sizeof it->msg, "the sparse Jacobian: %s",
+                 it->s->msg);
+        return rc;
+    }
+    c->A = SUNSparseMatrix(it->N, it->N, (sunindextype)p.nnz, CSC_MAT,
+                           c->ctx);
+    if (!c->A)
+        return eom__integ_nomem(it);
+    if ((rc = cv_pattern(it, c->A)) != EOM_OK) {
+        snprintf(it->msg, sizeof it->msg, "the sparse Jacobian: %s",
+                 it->s->msg);
+        return rc;
+    }
+    c->LS = SUNLinSol_KLU(c->y, c->A, c->ctx);
+    return c->LS ? EOM_OK : eom__integ_nomem(it);
+}
+
 /* The pieces of one method: nonlinear and linear solvers, projection. */
 static int cv_init_method(eom_integ *it, cvode *c)
 {
-    const int N = it->N, m = it->s->m;
-    int flag;
+    const int m = it->s->m;
+    int flag, rc;
     if (it->o.method == EOM_ADAMS) {
         c->NLS = SUNNonlinSol_FixedPoint(c->y, 0, c->ctx);
         if (!c->NLS)
@@ -312,12 +398,8 @@ static int cv_init_method(eom_integ *it, cvode *c)
             return eom__integ_nomem(it);
         return EOM_OK;
     }
-    c->A = SUNDenseMatrix(N, N, c->ctx);
-    if (!c->A)
-        return eom__integ_nomem(it);
-    c->LS = SUNLinSol_Dense(c->y, c->A, c->ctx);
-    if (!c->LS)
-        return eom__integ_nomem(it);
+    if ((rc = cv_matrix(it, c)) != EOM_OK)
+        return rc;
     if ((flag = CVodeSetLinearSolver(c->mem, c->LS, c->A)) < 0)
         return cv_setup_failed(it, flag, "CVodeSetLinearSolver");
     if (!it->o.dq_jacobian && (flag = CVodeSetJacFn(c->mem, cv_jac)) < 0)
@@ -548,6 +630,35 @@ static int cv_retry_loose(eom_integ *it, cvode *c, double tret, double tout)
     return EOM_OK;
 }
 
+/* What KLU said, when the sparse path failed in the linear solver: "" or
+ * a sentence, into buf. */
+static void cv_klu_why(const cvode *c, int flag, char *buf, size_t len)
+{
+    sun_klu_common *k;
+    const char *what;
+    buf[0] = '\0';
+    if (!c->sparse || !c->LS ||
+        (flag != CV_LSETUP_FAIL && flag != CV_LSOLVE_FAIL))
+        return;
+    if (!(k = SUNLinSol_KLUGetCommon(c->LS)))
+        return;
+    switch (k->status) {
+    case KLU_SINGULAR: what = "the Newton matrix is singular"; break;
+    case KLU_OUT_OF_MEMORY: what = "out of memory"; break;
+    case KLU_INVALID: what = "the matrix is invalid"; break;
+    case KLU_TOO_LARGE: what = "the matrix is too large"; break;
+    default: what = NULL; break;
+    }
+    if (what)
+        snprintf(buf, len, "KLU, factoring the sparse Newton matrix: %s "
+                 "(status %d); linear_solver 1 (dense) takes the dense "
+                 "path", what, (int)k->status);
+    else
+        snprintf(buf, len, "KLU, factoring the sparse Newton matrix: "
+                 "status %d, rcond %.3g; linear_solver 1 (dense) takes "
+                 "the dense path", (int)k->status, k->rcond);
+}
+
 static int cv_advance(eom_integ *it, double tout)
 {
     cvode *c = it->impl;
@@ -609,8 +720,17 @@ static int cv_advance(eom_integ *it, double tout)
         return status;
     }
     /* it->y keeps the state at the last output time */
-    return eom__sun_failed(it, &c->rep, cv_name(it),
-                           CVodeGetReturnFlagName(flag), tcur);
+    status = eom__sun_failed(it, &c->rep, cv_name(it),
+                             CVodeGetReturnFlagName(flag), tcur);
+    {
+        char klu[256];
+        cv_klu_why(c, flag, klu, sizeof klu);
+        if (klu[0]) {
+            const size_t used = strlen(it->msg);
+            snprintf(it->msg + used, sizeof it->msg - used, "; %s", klu);
+        }
+    }
+    return status;
 }
 
 static void cv_stats(const eom_integ *it, eom_stats *st)

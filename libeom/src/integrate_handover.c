@@ -56,6 +56,9 @@ static int start(eom_integ *it)
     o.dt = 0.0;
     o.atol_vec = it->atolv;
     o.erk_table = NULL;
+    /* a sparse request was the method's (ida's): with constraints bdf's
+     * matrix is dense, and it chooses for itself */
+    o.linear_solver = EOM_LINSOL_AUTO;
     rc = eom__integ_create(&b, it->s, &o, it->t, it->y, 0);
     if (rc != EOM_OK)
         return eom__integ_fail(it, rc,

@@ -401,6 +401,7 @@ void eom_system_free(eom_system **sp)
     tape_free(&s->tphi, last);
     /* the sparse Jacobian's workspace replays the residual tape: first */
     eom__jsparse_free(&s->jsp);
+    eom__ssparse_free(&s->ssp);
     tape_free(&s->tRes, last);
     if (last && s->shared) {
         int k;

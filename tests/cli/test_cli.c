@@ -594,7 +594,8 @@ static void case_tolerances(void)
     CHECK(five > 0 && euler > 3.0 * five);
 }
 
-/* --linear-solver: ida's choice in the summary; sparse refused by bdf */
+/* --linear-solver: ida's and bdf's choice in the summary; sparse refused
+ * by bdf where the mass matrix couples the coordinates, and by adams */
 static void case_linear_solver(void)
 {
     char path[300];
@@ -613,11 +614,21 @@ static void case_linear_solver(void)
     CHECK_INT(r.status, 0);
     CHECK_HAS(r.err, "(dense LU)");
     result_free(&r);
-    args[2] = "bdf";
+    args[2] = "bdf"; /* M diagonal in (r, theta): bdf's sparse path */
     args[8] = "sparse";
     run(&r, args);
+    CHECK_INT(r.status, 0);
+    CHECK_HAS(r.err, "(sparse, KLU)");
+    result_free(&r);
+    args[0] = "double-pendulum"; /* M couples the two angles */
+    run(&r, args);
     CHECK(r.status != 0);
-    CHECK_HAS(r.err, "only ida has a sparse iteration matrix");
+    CHECK_HAS(r.err, "the mass matrix couples");
+    result_free(&r);
+    args[2] = "adams";
+    run(&r, args);
+    CHECK(r.status != 0);
+    CHECK_HAS(r.err, "only ida and bdf have a sparse iteration matrix");
     result_free(&r);
 }
 

@@ -8,6 +8,8 @@
 typedef struct line {
     int N;
     int reach; /* springs from each mass to the next reach masses */
+    int blocks; /* mass_line_blocks_model's mass blocks: 0 (diagonal),
+                   2 or 4 */
 } line;
 
 static int line_T(eom_ctx *c, void *user, tp_val *out)
@@ -23,6 +25,38 @@ static int line_T(eom_ctx *c, void *user, tp_val *out)
     *out = tp_mul(R, tp_mulc(R, eom_param(c, "m"), 0.5),
                   tp_dot(R, 2 * ln->N, v, v));
     free(v);
+    return 0;
+}
+
+/* mass_line_blocks_model's T: line_T's plus 0.3 m xd_i yd_i for each
+ * mass (2 x 2 blocks), and with blocks 4 0.2 m v_2i . v_2i+1 for each
+ * pair of masses (4 x 4 blocks); diagonally dominant, so M stays
+ * positive definite. */
+static int line_T_blocks(eom_ctx *c, void *user, tp_val *out)
+{
+    const line *ln = user;
+    tp_rec *R = eom_rec(c);
+    tp_val *t = malloc(2 * (size_t)ln->N * sizeof *t), T0, m;
+    int i, cnt = 0;
+    if (!t || line_T(c, user, &T0) != 0) {
+        free(t);
+        return 1;
+    }
+    m = eom_param(c, "m");
+    for (i = 0; i < ln->N; i++)
+        t[cnt++] = tp_mul(R, eom_qd(c, 2 * i), eom_qd(c, 2 * i + 1));
+    *out = tp_add(R, T0, tp_mul(R, tp_mulc(R, m, 0.3), tp_sum(R, cnt, t)));
+    if (ln->blocks == 4) {
+        cnt = 0;
+        for (i = 0; i + 1 < ln->N; i += 2)
+            t[cnt++] = tp_add(R, tp_mul(R, eom_qd(c, 2 * i),
+                                        eom_qd(c, 2 * i + 2)),
+                              tp_mul(R, eom_qd(c, 2 * i + 1),
+                                     eom_qd(c, 2 * i + 3)));
+        *out = tp_add(R, *out,
+                      tp_mul(R, tp_mulc(R, m, 0.2), tp_sum(R, cnt, t)));
+    }
+    free(t);
     return 0;
 }
 
@@ -97,7 +131,8 @@ static void start(int N, double a, int i, double *x, double *y)
     *y = -0.05 * a * (N - 1) * sin(3.14159265358979323846 * i / (N - 1));
 }
 
-eom_model *mass_line_model(int N, int constrained, int reach)
+static eom_model *line_model(int N, int constrained, int reach,
+                             int blocks)
 {
     const double a = 0.1;
     eom_model *md = NULL;
@@ -114,6 +149,7 @@ eom_model *mass_line_model(int N, int constrained, int reach)
     }
     ln->N = N;
     ln->reach = reach;
+    ln->blocks = blocks;
     for (i = 0; i < N; i++) {
         start(N, a, i, &x, &y);
         snprintf(name, sizeof name, "x%d", i);
@@ -126,7 +162,7 @@ eom_model *mass_line_model(int N, int constrained, int reach)
     eom_model_add_param(md, "a", "m", a, "rest length of each spring");
     eom_model_add_param(md, "c", "N s/m", 0.05, "damping of each spring");
     eom_model_add_param(md, "g", "m/s^2", 9.81, "gravity");
-    eom_model_set_kinetic(md, line_T, ln);
+    eom_model_set_kinetic(md, blocks ? line_T_blocks : line_T, ln);
     eom_model_set_potential(md, line_V, ln);
     eom_model_set_dissipation(md, line_R, ln);
     if (constrained) {
@@ -143,4 +179,14 @@ eom_model *mass_line_model(int N, int constrained, int reach)
         return NULL;
     }
     return md;
+}
+
+eom_model *mass_line_model(int N, int constrained, int reach)
+{
+    return line_model(N, constrained, reach, 0);
+}
+
+eom_model *mass_line_blocks_model(int N, int blocks)
+{
+    return blocks == 2 || blocks == 4 ? line_model(N, 0, 1, blocks) : NULL;
 }

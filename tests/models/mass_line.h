@@ -29,4 +29,9 @@
  * on (free it with eom_model_free), or NULL. */
 eom_model *mass_line_model(int N, int constrained, int reach);
 
+/* The free line of N masses (reach 1) with a mass matrix of blocks: 2,
+ * each mass's x and y rates coupled (0.3 m xd_i yd_i); 4, also the
+ * masses in pairs (0.2 m v_2i . v_2i+1; N even). NULL otherwise. */
+eom_model *mass_line_blocks_model(int N, int blocks);
+
 #endif

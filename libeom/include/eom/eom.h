@@ -518,18 +518,19 @@ typedef struct eom_opts {
                          coordinates (eom_project_start): the
                          sensitivities at t0 are tangent to the
                          constraints, not unit vectors */
-    int linear_solver; /* ida: the linear solver of its Newton iteration:
-                          EOM_LINSOL_AUTO (0, default) chooses by the
-                          structure of the iteration matrix, which comes
-                          from the model's tapes (docs/integrators.md,
+    int linear_solver; /* ida and bdf: the linear solver of their Newton
+                          iteration: EOM_LINSOL_AUTO (0, default) chooses
+                          by the structure of the iteration matrix, which
+                          comes from the model's tapes (docs/integrators.md,
                           "Sparse iteration matrices"); EOM_LINSOL_DENSE
                           (1) dense LU; EOM_LINSOL_SPARSE (2) KLU on a
                           compressed-column matrix (not with
-                          dq_jacobian). bdf and esdirk are dense whatever
-                          is asked but EOM_LINSOL_SPARSE, which they
-                          refuse; methods without a Newton iteration
-                          ignore it. eom_stats.linear_solver says which
-                          was used */
+                          dq_jacobian; bdf refuses it with constraints or
+                          when the mass matrix couples most coordinates).
+                          esdirk is dense whatever is asked but
+                          EOM_LINSOL_SPARSE, which it refuses; methods
+                          without a Newton iteration ignore it.
+                          eom_stats.linear_solver says which was used */
 } eom_opts;
 
 /* eom_opts.linear_solver and eom_stats.linear_solver. */
