@@ -9,8 +9,11 @@
 #ifndef EOM_INTEGRATE_INTERNAL_H
 #define EOM_INTEGRATE_INTERNAL_H
 
+#include <arkode/arkode_arkstep.h>
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
+#include <sundials/sundials_linearsolver.h>
+#include <sundials/sundials_matrix.h>
 
 #include "eom_internal.h"
 
@@ -207,6 +210,57 @@ int eom__sun_failed(eom_integ *it, const eom_sun_report *r,
                     const char *method, char *flag_name, double t);
 /* The smallest step to allow while advancing from t to tout. */
 double eom__sun_min_step(double t, double tout);
+
+/* ---- what the ARKODE methods share (integrate_arkstep.c) ------------- */
+
+/* The solver of an ARKODE method (erk, esdirk, imex). It is the first
+ * member of each method's impl, so that the callbacks below, given the
+ * integrator as user data, find it at it->impl. */
+typedef struct eom_ark {
+    SUNContext ctx;
+    N_Vector y;                /* [N] the solver's state */
+    SUNMatrix A;               /* dense Newton matrix (ARKStep), or NULL */
+    SUNLinearSolver LS;        /* dense LU (ARKStep), or NULL */
+    void *mem;                 /* ERKStep or ARKStep memory */
+    eom_sun_report rep;        /* why it stopped */
+} eom_ark;
+
+/* The solver's return value for a callback status (eom__sun_cb_result
+ * with it->impl's report). */
+int eom__ark_cb_result(eom_integ *it, int rc);
+/* The right-hand side as an ARKRhsFn (user data: the integrator). */
+int eom__ark_rhs(sunrealtype t, N_Vector y, N_Vector yd, void *user);
+/* After each accepted step, an ARKPostProcessFn (user data: the
+ * integrator): project y in place (or only track the residual when
+ * projection is off), and watch the assembly branch. */
+int eom__ark_postprocess(sunrealtype t, N_Vector y, void *user);
+/* The context and the state vector a, holding it->y; a status. */
+int eom__ark_start(eom_integ *it, eom_ark *a);
+/* Free what a holds (mem with free_mem: ERKStepFree or ARKStepFree);
+ * NULL members are skipped. */
+void eom__ark_free(eom_ark *a, void (*free_mem)(void **));
+/* A solver that did not fail stopped at tcur with last step hlast: when
+ * that is tout, copy its state y to it->y and it->t = tout, EOM_OK;
+ * otherwise EOM_ERR_SOLVER with a message naming the method. */
+int eom__ark_reached(eom_integ *it, const char *method, double tout,
+                     double tcur, double hlast, N_Vector y);
+
+/* ARKStep with a dense Newton solver (esdirk, imex): create a's solver
+ * (eom__ark_start first) from the explicit and implicit parts fe and fi
+ * (fe NULL: all implicit), with the implicit and explicit tables itable
+ * and etable (ARKODE_ERK_NONE: none) and the Jacobian jac of fi (unused
+ * with o.dq_jacobian); the tolerances, step limits and, with
+ * constraints, eom__ark_postprocess. A status with a message. */
+int eom__ark_implicit_init(eom_integ *it, eom_ark *a, ARKRhsFn fe,
+                           ARKRhsFn fi, ARKLsJacFn jac,
+                           ARKODE_DIRKTableID itable,
+                           ARKODE_ERKTableID etable);
+/* Advance an ARKStep solver (it->impl) to exactly tout; messages name
+ * method. A status (it->y keeps the last output state on failure). */
+int eom__ark_advance(eom_integ *it, double tout, const char *method);
+/* Steps, failed steps (error test and Newton) and Jacobians of an ARKStep
+ * solver (it->impl). */
+void eom__ark_stats(const eom_integ *it, eom_stats *st);
 
 /* The methods. */
 extern const eom_integ_ops eom__rk4_ops;
