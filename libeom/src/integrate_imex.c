@@ -200,12 +200,7 @@ static int apply_G(eom_integ *it, imex *d, double *v)
             c += s->C[(size_t)j * (size_t)n + (size_t)i] * v[i];
         d->wm[j] = c;
     }
-    if ((rc = eom__S_solve(s, d->wm)) != EOM_OK)
-        return rc;
-    for (j = 0; j < m; j++)
-        for (i = 0; i < n; i++)
-            v[i] -= s->Y[(size_t)j * (size_t)n + (size_t)i] * d->wm[j];
-    return EOM_OK;
+    return eom__S_correct(s, v, d->wm);
 }
 
 /* Evaluate the model at (t, y) and split its right-hand side into d->f and
