@@ -43,6 +43,7 @@
 #include "eom_models.h"
 #include "hand_ref.h"
 #include "integrate_internal.h"
+#include "support_num.h"
 
 #define NMAX 40
 
@@ -369,20 +370,6 @@ static int run(eom_system *s, eom_method m, double tol, int per_step,
     return rc;
 }
 
-static double slope(int n, const double *x, const double *err)
-{
-    double sx = 0, sy = 0, sxx = 0, sxy = 0;
-    int i;
-    for (i = 0; i < n; i++) {
-        const double a = log(x[i]), b = log(err[i]);
-        sx += a;
-        sy += b;
-        sxx += a * a;
-        sxy += a * b;
-    }
-    return (n * sxy - sx * sy) / (n * sxx - sx * sx);
-}
-
 /* error against steps of imex over rtol = atol = 10^-top .. 10^-(top+4) */
 static double order_on(eom_system *s, const double *ref, int top,
                        const char *what)
@@ -398,7 +385,7 @@ static double order_on(eom_system *s, const double *ref, int top,
         printf("%s: imex tol %-6g steps %6ld error %.3g (%.3g x tol)\n",
                what, tol, st, err[i], err[i] / tol);
     }
-    p = -slope(5, steps, err);
+    p = -num_loglog_slope(5, steps, err);
     printf("%s: imex observed order %.2f (nominal 5)\n", what, p);
     return p;
 }
@@ -486,7 +473,7 @@ static void order(void)
             printf("spring pendulum k 7500: imex fixed h 1/%d error %.3g\n",
                    100 << i, err[i]);
         }
-        p = slope(4, hs, err);
+        p = num_loglog_slope(4, hs, err);
         printf("spring pendulum k 7500: imex order with fixed steps %.2f "
                "(nominal 5)\n", p);
         CHECK(p > 4.5 && p < 6.0);
