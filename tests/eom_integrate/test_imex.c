@@ -115,6 +115,17 @@ static eom_system *two_mass(void)
     return s;
 }
 
+/* The system of *md, which is freed and set to NULL; NULL, with a failed
+ * check, when it cannot be made. */
+static eom_system *system_of(eom_model **md)
+{
+    eom_system *s = NULL;
+    char msg[256];
+    CHECK_INT(eom_system_new(&s, *md, msg, sizeof msg), EOM_OK);
+    eom_model_free(md);
+    return s;
+}
+
 /* M^-1 b for M = [[M1 + M2, M2], [M2, M2]] */
 static void tm_solve(const double *b, double *a)
 {
@@ -246,13 +257,11 @@ static void split_spring_and_fourbar(void)
     eom_model *md = eom_models_spring_pendulum(1.0, 75.0, 1.0, 9.81);
     eom_system *s = NULL;
     eom_integ *it;
-    char msg[256];
     double x[2 * NMAX], fe[2 * NMAX + 1], fi[2 * NMAX + 1], worst = 0.0;
     double hand = 0.0;
     unsigned seed = 777u;
     int k, i;
-    CHECK_INT(eom_system_new(&s, md, msg, sizeof msg), EOM_OK);
-    eom_model_free(&md);
+    s = system_of(&md);
     if (!s)
         return;
     CHECK_INT(eom_initial_state(s, x), EOM_OK);
@@ -295,8 +304,7 @@ static void split_spring_and_fourbar(void)
         worst = 0.0;
         md = eom_models_rod_chain(3, m, l, th0, 9.81, 1, 0.0);
         CHECK(md != NULL);
-        CHECK_INT(eom_system_new(&s, md, msg, sizeof msg), EOM_OK);
-        eom_model_free(&md);
+        s = system_of(&md);
         if (!s)
             return;
         CHECK_INT(eom_initial_state(s, x), EOM_OK);
@@ -395,10 +403,8 @@ static void order(void)
     eom_model *md = eom_models_spring_pendulum(1.0, 75.0, 1.0, 9.81);
     eom_system *s = NULL;
     double ref[4] = {1.1, 0.5, 0.0, 0.0}, ref2[4], p;
-    char msg[256];
     long st;
-    CHECK_INT(eom_system_new(&s, md, msg, sizeof msg), EOM_OK);
-    eom_model_free(&md);
+    s = system_of(&md);
     if (!s)
         return;
     /* the model's start: r = r0 + 0.1, theta = 0.5, at rest */
@@ -502,8 +508,7 @@ static void stiff(void)
         CHECK_FAIL_("stiff spring model: %s", msg);
         return;
     }
-    CHECK_INT(eom_system_new(&s, md, msg, sizeof msg), EOM_OK);
-    eom_model_free(&md);
+    s = system_of(&md);
     if (!s)
         return;
     CHECK_INT(run(s, EOM_ERK, 1e-12, 1, 2.0, xr, &sr, NULL), EOM_OK);
@@ -579,12 +584,10 @@ static void shipped(const char *dir)
         const double th0[3] = {1.2, 0.1, -1.4};
         eom_model *md = eom_models_rod_chain(3, m, l, th0, 9.81, 1, 0.0);
         eom_system *s = NULL;
-        char msg[256];
         double x[6];
         /* the start on the constraints: the rods' angles as given are
          * not, so the run starts from the projected state */
-        CHECK_INT(eom_system_new(&s, md, msg, sizeof msg), EOM_OK);
-        eom_model_free(&md);
+        s = system_of(&md);
         if (s) {
             CHECK_INT(eom_initial_state(s, x), EOM_OK);
             CHECK_INT(eom_project_start(s, x, 1e-13, NULL), EOM_OK);
@@ -594,8 +597,7 @@ static void shipped(const char *dir)
         }
         eom_system_free(&s);
         md = eom_models_bead_on_circle(1.0, 1.0, 9.81);
-        CHECK_INT(eom_system_new(&s, md, msg, sizeof msg), EOM_OK);
-        eom_model_free(&md);
+        s = system_of(&md);
         if (s) {
             /* on the circle at 0.7 rad from the bottom, moving along it */
             x[0] = sin(0.7);
@@ -646,14 +648,12 @@ static void failure(void)
     eom_integ *it = NULL;
     eom_opts o;
     double x[2] = {1.0, -1.0}, W = 0.0;
-    char msg[256];
     int rc = EOM_OK, k, rc2;
     CHECK_INT(eom_model_new(&md), EOM_OK);
     eom_model_add_coord(md, "x", "m", 1.0, -1.0);
     eom_model_set_kinetic(md, fall_T, NULL);
     eom_model_set_potential(md, fall_V, NULL);
-    CHECK_INT(eom_system_new(&s, md, msg, sizeof msg), EOM_OK);
-    eom_model_free(&md);
+    s = system_of(&md);
     if (!s)
         return;
     eom_opts_default(&o);
@@ -682,7 +682,6 @@ static void refusals(void)
     eom_integ *it = NULL;
     eom_opts o;
     double x[2] = {1.0, 0.0};
-    char msg[256];
     int sens[1] = {0};
     CHECK_INT(eom_method_from_name("imex"), EOM_IMEX);
     CHECK(strcmp(eom_method_name(EOM_IMEX), "imex") == 0);
@@ -692,8 +691,7 @@ static void refusals(void)
     CHECK_INT(eom_model_new(&md), EOM_OK);
     eom_model_add_coord(md, "x", "m", 1.0, 0.0);
     eom_model_set_lagrangian(md, lag_L, NULL);
-    CHECK_INT(eom_system_new(&s, md, msg, sizeof msg), EOM_OK);
-    eom_model_free(&md);
+    s = system_of(&md);
     if (!s)
         return;
     eom_opts_default(&o);
@@ -711,8 +709,7 @@ static void refusals(void)
     eom_system_free(&s);
 
     md = eom_models_spring_pendulum(1.0, 75.0, 1.0, 9.81);
-    CHECK_INT(eom_system_new(&s, md, msg, sizeof msg), EOM_OK);
-    eom_model_free(&md);
+    s = system_of(&md);
     if (!s)
         return;
     {
