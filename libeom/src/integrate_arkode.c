@@ -16,8 +16,9 @@
  * right after a failed callback, that callback's status is the cause.
  * ERKStep itself treats +1 from the right-hand side as unrecoverable
  * (ARK_UNREC_RHSFUNC_ERR); it does not retry with a smaller step. The
- * callbacks, the solver's state and the end of an advance are esdirk's and
- * imex's too (integrate_arkstep.c).
+ * callbacks, the solver's state, the setup messages and the advance are
+ * esdirk's and imex's too (integrate_arkstep.c), through ERKStep's table
+ * of functions here.
  */
 #include <stdlib.h>
 #include <string.h>
@@ -59,19 +60,23 @@ static int erk_table_known(const char *name)
     return 0;
 }
 
-/* A failed setup call: a status and a message naming it. */
-static int erk_setup_failed(eom_integ *it, int flag, const char *call)
-{
-    return eom__sun_setup_failed(it, ERKStepGetReturnFlagName(flag),
-                                 flag == ARK_MEM_FAIL, call);
-}
+/* ERKStep's functions for the shared advance and messages. */
+const eom_ark_stepper eom__erkstep = {
+    .free_mem = ERKStepFree,
+    .set_min_step = ERKStepSetMinStep,
+    .set_stop_time = ERKStepSetStopTime,
+    .evolve = ERKStepEvolve,
+    .get_current_time = ERKStepGetCurrentTime,
+    .get_last_step = ERKStepGetLastStep,
+    .flag_name = ERKStepGetReturnFlagName,
+};
 
 static void erk_destroy(eom_integ *it)
 {
     eom_ark *e = it->impl;
     if (!e)
         return;
-    eom__ark_free(e, ERKStepFree);
+    eom__ark_free(e);
     free(e);
     it->impl = NULL;
 }
@@ -85,15 +90,15 @@ static int erk_init(eom_integ *it)
     if (!e)
         return eom__integ_nomem(it);
     it->impl = e;
-    if ((rc = eom__ark_start(it, e)) != EOM_OK)
+    if ((rc = eom__ark_start(it, e, &eom__erkstep)) != EOM_OK)
         return rc;
     e->mem = ERKStepCreate(eom__ark_rhs, it->t, e->y, e->ctx);
     if (!e->mem)
         return eom__integ_nomem(it);
     if ((flag = ERKStepSetErrHandlerFn(e->mem, eom__sun_error, &e->rep)) < 0)
-        return erk_setup_failed(it, flag, "ERKStepSetErrHandlerFn");
+        return eom__ark_setup_failed(it, flag, "ERKStepSetErrHandlerFn");
     if ((flag = ERKStepSetUserData(e->mem, it)) < 0)
-        return erk_setup_failed(it, flag, "ERKStepSetUserData");
+        return eom__ark_setup_failed(it, flag, "ERKStepSetUserData");
     if (it->erk_table[0]) {
         if (!erk_table_known(it->erk_table))
             return eom__integ_fail(it, EOM_ERR_ARG,
@@ -101,23 +106,24 @@ static int erk_init(eom_integ *it)
                                    "lists them; docs/integrators.md too)",
                                    it->erk_table);
         if ((flag = ERKStepSetTableName(e->mem, it->erk_table)) < 0)
-            return erk_setup_failed(it, flag, "ERKStepSetTableName");
+            return eom__ark_setup_failed(it, flag, "ERKStepSetTableName");
     } else if ((flag = ERKStepSetTableNum(e->mem, ERK_TABLE)) < 0) {
-        return erk_setup_failed(it, flag, "ERKStepSetTableNum");
+        return eom__ark_setup_failed(it, flag, "ERKStepSetTableNum");
     }
     flag = eom__sun_tolerances(it, e->mem, e->ctx, it->N,
                                ERKStepSStolerances, ERKStepSVtolerances);
     if (flag == 1)
         return eom__integ_nomem(it);
     if (flag < 0)
-        return erk_setup_failed(it, flag, it->atolv ? "ERKStepSVtolerances"
-                                                 : "ERKStepSStolerances");
+        return eom__ark_setup_failed(it, flag,
+                                     it->atolv ? "ERKStepSVtolerances"
+                                               : "ERKStepSStolerances");
     /* explicitly: the default of 500 would stop tight-tolerance runs */
     if ((flag = ERKStepSetMaxNumSteps(e->mem, it->o.max_steps)) < 0)
-        return erk_setup_failed(it, flag, "ERKStepSetMaxNumSteps");
+        return eom__ark_setup_failed(it, flag, "ERKStepSetMaxNumSteps");
     if (it->o.dt > 0.0 &&
         (flag = ERKStepSetInitStep(e->mem, it->o.dt)) < 0)
-        return erk_setup_failed(it, flag, "ERKStepSetInitStep");
+        return eom__ark_setup_failed(it, flag, "ERKStepSetInitStep");
     /* Installed for every model, constraints or not: ERKStep in SUNDIALS
      * 6.4 takes the last stage of any table whose last node is c = 1 as
      * f at the new step (first-same-as-last), although for Verner 8-5-6
@@ -129,29 +135,14 @@ static int erk_init(eom_integ *it)
      * FSAL needs anyway. Without constraints the function does nothing. */
     if ((flag = ERKStepSetPostprocessStepFn(e->mem,
                                             eom__ark_postprocess)) < 0)
-        return erk_setup_failed(it, flag, "ERKStepSetPostprocessStepFn");
+        return eom__ark_setup_failed(it, flag,
+                                     "ERKStepSetPostprocessStepFn");
     return EOM_OK;
 }
 
 static int erk_advance(eom_integ *it, double tout)
 {
-    eom_ark *e = it->impl;
-    sunrealtype tret = it->t, tcur = it->t, hlast = 0.0;
-    int flag;
-    eom__sun_report_reset(&e->rep);
-    flag = ERKStepSetMinStep(e->mem, eom__sun_min_step(it->t, tout));
-    if (flag >= 0)
-        flag = ERKStepSetStopTime(e->mem, tout);
-    if (flag >= 0)
-        flag = ERKStepEvolve(e->mem, tout, e->y, &tret, ARK_NORMAL);
-    ERKStepGetCurrentTime(e->mem, &tcur);
-    if (flag >= 0) {
-        ERKStepGetLastStep(e->mem, &hlast);
-        return eom__ark_reached(it, "erk", tout, tcur, hlast, e->y);
-    }
-    /* it->y keeps the state at the last output time */
-    return eom__sun_failed(it, &e->rep, "erk", ERKStepGetReturnFlagName(flag),
-                           tcur);
+    return eom__ark_advance(it, tout, "erk");
 }
 
 static void erk_stats(const eom_integ *it, eom_stats *st)

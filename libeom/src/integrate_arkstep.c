@@ -4,10 +4,12 @@
  *
  * Each method's impl begins with an eom_ark (integrate_internal.h), so the
  * callbacks here take the integrator as user data and find the solver at
- * it->impl. The ARKStep functions serve esdirk and imex, which differ only
- * in their right-hand sides, tables and Jacobians; erk keeps its own
- * setup and advance (ERKStep's functions) and shares the rest. Messages
- * name the method, so the ones a run writes are the method's own.
+ * it->impl; the solver's stepper table (eom__erkstep, eom__arkstep) names
+ * the ERKStep or ARKStep function each call goes to. The ARKStep setup and
+ * statistics serve esdirk and imex, which differ only in their right-hand
+ * sides, tables and Jacobians; erk sets up its own table and keeps its own
+ * counters. Messages name the method, so the ones a run writes are the
+ * method's own.
  */
 #include <float.h>
 #include <math.h>
@@ -50,8 +52,19 @@ int eom__ark_postprocess(sunrealtype t, N_Vector y, void *user)
     return eom__ark_cb_result(it, rc);
 }
 
-int eom__ark_start(eom_integ *it, eom_ark *a)
+const eom_ark_stepper eom__arkstep = {
+    .free_mem = ARKStepFree,
+    .set_min_step = ARKStepSetMinStep,
+    .set_stop_time = ARKStepSetStopTime,
+    .evolve = ARKStepEvolve,
+    .get_current_time = ARKStepGetCurrentTime,
+    .get_last_step = ARKStepGetLastStep,
+    .flag_name = ARKStepGetReturnFlagName,
+};
+
+int eom__ark_start(eom_integ *it, eom_ark *a, const eom_ark_stepper *step)
 {
+    a->step = step;
     if (SUNContext_Create(NULL, &a->ctx) != 0) {
         a->ctx = NULL;
         return eom__integ_nomem(it);
@@ -63,9 +76,10 @@ int eom__ark_start(eom_integ *it, eom_ark *a)
     return EOM_OK;
 }
 
-void eom__ark_free(eom_ark *a, void (*free_mem)(void **))
+void eom__ark_free(eom_ark *a)
 {
-    free_mem(&a->mem);
+    if (a->step)
+        a->step->free_mem(&a->mem);
     if (a->LS)
         SUNLinSolFree(a->LS);
     if (a->A)
@@ -76,24 +90,40 @@ void eom__ark_free(eom_ark *a, void (*free_mem)(void **))
         SUNContext_Free(&a->ctx);
 }
 
-int eom__ark_reached(eom_integ *it, const char *method, double tout,
-                     double tcur, double hlast, N_Vector y)
+int eom__ark_setup_failed(eom_integ *it, int flag, const char *call)
 {
+    const eom_ark *a = it->impl;
+    return eom__sun_setup_failed(it, a->step->flag_name(flag),
+                                 flag == ARK_MEM_FAIL, call);
+}
+
+int eom__ark_advance(eom_integ *it, double tout, const char *method)
+{
+    eom_ark *a = it->impl;
+    const eom_ark_stepper *f = a->step;
+    sunrealtype tret = it->t, tcur = it->t, hlast = 0.0;
+    int flag;
+    eom__sun_report_reset(&a->rep);
+    flag = f->set_min_step(a->mem, eom__sun_min_step(it->t, tout));
+    if (flag >= 0)
+        flag = f->set_stop_time(a->mem, tout);
+    if (flag >= 0)
+        flag = f->evolve(a->mem, tout, a->y, &tret, ARK_NORMAL);
+    f->get_current_time(a->mem, &tcur);
+    if (flag < 0) {
+        /* it->y keeps the state at the last output time */
+        return eom__sun_failed(it, &a->rep, method, f->flag_name(flag),
+                               tcur);
+    }
     /* a success that did not reach tout is not one */
+    f->get_last_step(a->mem, &hlast);
     if (tcur < tout - 100.0 * DBL_EPSILON * (fabs(tout) + fabs(hlast)))
         return eom__integ_fail(it, EOM_ERR_SOLVER,
                                "%s: stopped at t = %.17g before tout = %.17g "
                                "(last step %.3g)", method, tcur, tout, hlast);
-    memcpy(it->y, N_VGetArrayPointer(y), (size_t)it->N * sizeof(double));
+    memcpy(it->y, N_VGetArrayPointer(a->y), (size_t)it->N * sizeof(double));
     it->t = tout;
     return EOM_OK;
-}
-
-/* A failed ARKStep setup call: a status and a message naming it. */
-static int ark_setup_failed(eom_integ *it, int flag, const char *call)
-{
-    return eom__sun_setup_failed(it, ARKStepGetReturnFlagName(flag),
-                                 flag == ARK_MEM_FAIL, call);
 }
 
 int eom__ark_implicit_init(eom_integ *it, eom_ark *a, ARKRhsFn fe,
@@ -102,24 +132,25 @@ int eom__ark_implicit_init(eom_integ *it, eom_ark *a, ARKRhsFn fe,
                            ARKODE_ERKTableID etable)
 {
     int flag, rc;
-    if ((rc = eom__ark_start(it, a)) != EOM_OK)
+    if ((rc = eom__ark_start(it, a, &eom__arkstep)) != EOM_OK)
         return rc;
     a->mem = ARKStepCreate(fe, fi, it->t, a->y, a->ctx);
     if (!a->mem)
         return eom__integ_nomem(it);
     if ((flag = ARKStepSetErrHandlerFn(a->mem, eom__sun_error, &a->rep)) < 0)
-        return ark_setup_failed(it, flag, "ARKStepSetErrHandlerFn");
+        return eom__ark_setup_failed(it, flag, "ARKStepSetErrHandlerFn");
     if ((flag = ARKStepSetUserData(a->mem, it)) < 0)
-        return ark_setup_failed(it, flag, "ARKStepSetUserData");
+        return eom__ark_setup_failed(it, flag, "ARKStepSetUserData");
     if ((flag = ARKStepSetTableNum(a->mem, itable, etable)) < 0)
-        return ark_setup_failed(it, flag, "ARKStepSetTableNum");
+        return eom__ark_setup_failed(it, flag, "ARKStepSetTableNum");
     flag = eom__sun_tolerances(it, a->mem, a->ctx, it->N,
                                ARKStepSStolerances, ARKStepSVtolerances);
     if (flag == 1)
         return eom__integ_nomem(it);
     if (flag < 0)
-        return ark_setup_failed(it, flag, it->atolv ? "ARKStepSVtolerances"
-                                                 : "ARKStepSStolerances");
+        return eom__ark_setup_failed(it, flag,
+                                     it->atolv ? "ARKStepSVtolerances"
+                                               : "ARKStepSStolerances");
     a->A = SUNDenseMatrix(it->N, it->N, a->ctx);
     if (!a->A)
         return eom__integ_nomem(it);
@@ -127,15 +158,15 @@ int eom__ark_implicit_init(eom_integ *it, eom_ark *a, ARKRhsFn fe,
     if (!a->LS)
         return eom__integ_nomem(it);
     if ((flag = ARKStepSetLinearSolver(a->mem, a->LS, a->A)) < 0)
-        return ark_setup_failed(it, flag, "ARKStepSetLinearSolver");
+        return eom__ark_setup_failed(it, flag, "ARKStepSetLinearSolver");
     if (!it->o.dq_jacobian && (flag = ARKStepSetJacFn(a->mem, jac)) < 0)
-        return ark_setup_failed(it, flag, "ARKStepSetJacFn");
+        return eom__ark_setup_failed(it, flag, "ARKStepSetJacFn");
     /* explicitly: the default of 500 would stop tight-tolerance runs */
     if ((flag = ARKStepSetMaxNumSteps(a->mem, it->o.max_steps)) < 0)
-        return ark_setup_failed(it, flag, "ARKStepSetMaxNumSteps");
+        return eom__ark_setup_failed(it, flag, "ARKStepSetMaxNumSteps");
     if (it->o.dt > 0.0 &&
         (flag = ARKStepSetInitStep(a->mem, it->o.dt)) < 0)
-        return ark_setup_failed(it, flag, "ARKStepSetInitStep");
+        return eom__ark_setup_failed(it, flag, "ARKStepSetInitStep");
     /* the stages' Newton iterations start from the interpolant of the
      * last step at its full order, not from y_n: with the trivial
      * predictor and the Newton matrix kept over steps, the nonlinear
@@ -143,36 +174,15 @@ int eom__ark_implicit_init(eom_integ *it, eom_ark *a, ARKRhsFn fe,
      * see (esdirk on an oscillator at atol 1e-3 ended 129 off, at 1e-12
      * per step rtol; with this one 0.15) */
     if ((flag = ARKStepSetPredictorMethod(a->mem, 1)) < 0)
-        return ark_setup_failed(it, flag, "ARKStepSetPredictorMethod");
+        return eom__ark_setup_failed(it, flag, "ARKStepSetPredictorMethod");
     /* without constraints there is nothing to project or watch, and the
      * tables keep their order with the last stage reused (unlike erk's
      * Verner table, integrate_arkode.c) */
     if (it->s->m > 0 &&
         (flag = ARKStepSetPostprocessStepFn(a->mem, eom__ark_postprocess)) <
             0)
-        return ark_setup_failed(it, flag, "ARKStepSetPostprocessStepFn");
+        return eom__ark_setup_failed(it, flag, "ARKStepSetPostprocessStepFn");
     return EOM_OK;
-}
-
-int eom__ark_advance(eom_integ *it, double tout, const char *method)
-{
-    eom_ark *a = it->impl;
-    sunrealtype tret = it->t, tcur = it->t, hlast = 0.0;
-    int flag;
-    eom__sun_report_reset(&a->rep);
-    flag = ARKStepSetMinStep(a->mem, eom__sun_min_step(it->t, tout));
-    if (flag >= 0)
-        flag = ARKStepSetStopTime(a->mem, tout);
-    if (flag >= 0)
-        flag = ARKStepEvolve(a->mem, tout, a->y, &tret, ARK_NORMAL);
-    ARKStepGetCurrentTime(a->mem, &tcur);
-    if (flag >= 0) {
-        ARKStepGetLastStep(a->mem, &hlast);
-        return eom__ark_reached(it, method, tout, tcur, hlast, a->y);
-    }
-    /* it->y keeps the state at the last output time */
-    return eom__sun_failed(it, &a->rep, method,
-                           ARKStepGetReturnFlagName(flag), tcur);
 }
 
 void eom__ark_stats(const eom_integ *it, eom_stats *st)

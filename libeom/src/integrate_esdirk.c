@@ -48,7 +48,7 @@ static void dk_destroy(eom_integ *it)
     eom_ark *d = it->impl;
     if (!d)
         return;
-    eom__ark_free(d, ARKStepFree);
+    eom__ark_free(d);
     free(d);
     it->impl = NULL;
 }

@@ -363,7 +363,7 @@ static void ix_destroy(eom_integ *it)
     imex *d = it->impl;
     if (!d)
         return;
-    eom__ark_free(&d->ark, ARKStepFree);
+    eom__ark_free(&d->ark);
     tp_ws_free(&d->wV);
     tp_tape_free(&d->tV);
     free(d->pmap);

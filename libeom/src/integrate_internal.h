@@ -213,10 +213,26 @@ double eom__sun_min_step(double t, double tout);
 
 /* ---- what the ARKODE methods share (integrate_arkstep.c) ------------- */
 
+/* The functions of an ARKODE stepper that the shared code calls: ERKStep's
+ * and ARKStep's have the same signatures under their own prefixes. */
+typedef struct eom_ark_stepper {
+    void (*free_mem)(void **mem);
+    int (*set_min_step)(void *mem, sunrealtype hmin);
+    int (*set_stop_time)(void *mem, sunrealtype tstop);
+    int (*evolve)(void *mem, sunrealtype tout, N_Vector yout,
+                  sunrealtype *tret, int itask);
+    int (*get_current_time)(void *mem, sunrealtype *tcur);
+    int (*get_last_step)(void *mem, sunrealtype *hlast);
+    char *(*flag_name)(long flag); /* allocated, as GetReturnFlagName */
+} eom_ark_stepper;
+extern const eom_ark_stepper eom__erkstep; /* integrate_arkode.c */
+extern const eom_ark_stepper eom__arkstep; /* integrate_arkstep.c */
+
 /* The solver of an ARKODE method (erk, esdirk, imex). It is the first
- * member of each method's impl, so that the callbacks below, given the
- * integrator as user data, find it at it->impl. */
+ * member of each method's impl, so that the functions below, given the
+ * integrator (as a callback's user data), find it at it->impl. */
 typedef struct eom_ark {
+    const eom_ark_stepper *step; /* NULL before eom__ark_start */
     SUNContext ctx;
     N_Vector y;                /* [N] the solver's state */
     SUNMatrix A;               /* dense Newton matrix (ARKStep), or NULL */
@@ -234,19 +250,21 @@ int eom__ark_rhs(sunrealtype t, N_Vector y, N_Vector yd, void *user);
  * integrator): project y in place (or only track the residual when
  * projection is off), and watch the assembly branch. */
 int eom__ark_postprocess(sunrealtype t, N_Vector y, void *user);
-/* The context and the state vector a, holding it->y; a status. */
-int eom__ark_start(eom_integ *it, eom_ark *a);
-/* Free what a holds (mem with free_mem: ERKStepFree or ARKStepFree);
- * NULL members are skipped. */
-void eom__ark_free(eom_ark *a, void (*free_mem)(void **));
-/* A solver that did not fail stopped at tcur with last step hlast: when
- * that is tout, copy its state y to it->y and it->t = tout, EOM_OK;
- * otherwise EOM_ERR_SOLVER with a message naming the method. */
-int eom__ark_reached(eom_integ *it, const char *method, double tout,
-                     double tcur, double hlast, N_Vector y);
+/* Start a with the stepper step: the context, and the state vector
+ * holding it->y; a status. */
+int eom__ark_start(eom_integ *it, eom_ark *a, const eom_ark_stepper *step);
+/* Free what a holds; NULL members are skipped. */
+void eom__ark_free(eom_ark *a);
+/* A failed setup call of it->impl's stepper: a status and a message
+ * naming the call and the flag. */
+int eom__ark_setup_failed(eom_integ *it, int flag, const char *call);
+/* Advance it->impl's solver to exactly tout (the stop time); messages
+ * name method. A status (it->y keeps the last output state on
+ * failure). */
+int eom__ark_advance(eom_integ *it, double tout, const char *method);
 
-/* ARKStep with a dense Newton solver (esdirk, imex): create a's solver
- * (eom__ark_start first) from the explicit and implicit parts fe and fi
+/* ARKStep with a dense Newton solver (esdirk, imex): start a
+ * (eom__ark_start) and create its solver from the parts fe and fi
  * (fe NULL: all implicit), with the implicit and explicit tables itable
  * and etable (ARKODE_ERK_NONE: none) and the Jacobian jac of fi (unused
  * with o.dq_jacobian); the tolerances, step limits and, with
@@ -255,9 +273,6 @@ int eom__ark_implicit_init(eom_integ *it, eom_ark *a, ARKRhsFn fe,
                            ARKRhsFn fi, ARKLsJacFn jac,
                            ARKODE_DIRKTableID itable,
                            ARKODE_ERKTableID etable);
-/* Advance an ARKStep solver (it->impl) to exactly tout; messages name
- * method. A status (it->y keeps the last output state on failure). */
-int eom__ark_advance(eom_integ *it, double tout, const char *method);
 /* Steps, failed steps (error test and Newton) and Jacobians of an ARKStep
  * solver (it->impl). */
 void eom__ark_stats(const eom_integ *it, eom_stats *st);
