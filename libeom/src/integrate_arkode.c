@@ -61,15 +61,7 @@ static int erk_table_known(const char *name)
 }
 
 /* ERKStep's functions for the shared advance and messages. */
-const eom_ark_stepper eom__erkstep = {
-    .free_mem = ERKStepFree,
-    .set_min_step = ERKStepSetMinStep,
-    .set_stop_time = ERKStepSetStopTime,
-    .evolve = ERKStepEvolve,
-    .get_current_time = ERKStepGetCurrentTime,
-    .get_last_step = ERKStepGetLastStep,
-    .flag_name = ERKStepGetReturnFlagName,
-};
+const eom_ark_stepper eom__erkstep = EOM_ARK_STEPPER(ERK);
 
 static void erk_destroy(eom_integ *it)
 {

@@ -52,15 +52,7 @@ int eom__ark_postprocess(sunrealtype t, N_Vector y, void *user)
     return eom__ark_cb_result(it, rc);
 }
 
-const eom_ark_stepper eom__arkstep = {
-    .free_mem = ARKStepFree,
-    .set_min_step = ARKStepSetMinStep,
-    .set_stop_time = ARKStepSetStopTime,
-    .evolve = ARKStepEvolve,
-    .get_current_time = ARKStepGetCurrentTime,
-    .get_last_step = ARKStepGetLastStep,
-    .flag_name = ARKStepGetReturnFlagName,
-};
+const eom_ark_stepper eom__arkstep = EOM_ARK_STEPPER(ARK);
 
 int eom__ark_start(eom_integ *it, eom_ark *a, const eom_ark_stepper *step)
 {

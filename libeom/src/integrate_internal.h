@@ -225,6 +225,15 @@ typedef struct eom_ark_stepper {
     int (*get_last_step)(void *mem, sunrealtype *hlast);
     char *(*flag_name)(long flag); /* allocated, as GetReturnFlagName */
 } eom_ark_stepper;
+/* The table of the stepper whose functions begin with P (ERK, ARK). */
+#define EOM_ARK_STEPPER(P)                                                 \
+    {                                                                      \
+        .free_mem = P##StepFree, .set_min_step = P##StepSetMinStep,        \
+        .set_stop_time = P##StepSetStopTime, .evolve = P##StepEvolve,      \
+        .get_current_time = P##StepGetCurrentTime,                         \
+        .get_last_step = P##StepGetLastStep,                               \
+        .flag_name = P##StepGetReturnFlagName,                             \
+    }
 extern const eom_ark_stepper eom__erkstep; /* integrate_arkode.c */
 extern const eom_ark_stepper eom__arkstep; /* integrate_arkstep.c */
 
