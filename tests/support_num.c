@@ -1,5 +1,5 @@
-/* support_num.c - error measures and finite differences for the tests
- * (see support_num.h). */
+/* support_num.c - error measures, the slope of a convergence study and
+ * finite differences for the tests (see support_num.h). */
 #include <math.h>
 #include <stdlib.h>
 
@@ -117,4 +117,18 @@ int num_fd_jac(num_vfunc f, void *ctx, int n, int m, const double *x,
     }
     free(e);
     return rc;
+}
+
+double num_loglog_slope(int n, const double *x, const double *y)
+{
+    double sx = 0, sy = 0, sxx = 0, sxy = 0;
+    int i;
+    for (i = 0; i < n; i++) {
+        const double a = log(x[i]), b = log(y[i]);
+        sx += a;
+        sy += b;
+        sxx += a * a;
+        sxy += a * b;
+    }
+    return (n * sxy - sx * sy) / (n * sxx - sx * sx);
 }

@@ -22,6 +22,10 @@ double num_vec_err_scaled(const double *a, const double *b, size_t n,
  * is NaN and the other not): 0 means equal entry by entry. */
 size_t num_count_diff(const double *a, const double *b, size_t n);
 
+/* The least-squares slope of log(y) against log(x) over n points (x, y
+ * > 0): the order a convergence study observes. */
+double num_loglog_slope(int n, const double *x, const double *y);
+
 /* A vector function y[m] = f(x[n]) for finite differences; returns 0, or
  * non-zero when it cannot be evaluated (the difference then fails). */
 typedef int (*num_vfunc)(void *ctx, const double *x, double *y);

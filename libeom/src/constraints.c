@@ -35,8 +35,8 @@ static double maxabs(const double *a, int n)
     return m;
 }
 
-/* x[0..n) -= Y S^-1 r, with r (m) overwritten. */
-static int correct(eom_system *s, double *v, double *r)
+/* v[0..n) -= Y S^-1 r, r (m) overwritten (eom_internal.h). */
+int eom__S_correct(eom_system *s, double *v, double *r)
 {
     const int n = s->n, m = s->m;
     int i, j, rc;
@@ -113,7 +113,7 @@ static int project(eom_system *s, double t, double *x, double tol,
         if ((rc = eom__factor_S(s)) != EOM_OK)
             return rc;
         memcpy(s->wm, s->phi, (size_t)m * sizeof(double));
-        if ((rc = correct(s, x, s->wm)) != EOM_OK)
+        if ((rc = eom__S_correct(s, x, s->wm)) != EOM_OK)
             return rc;
         it++;
     }
@@ -127,7 +127,7 @@ static int project(eom_system *s, double t, double *x, double tol,
             sum += s->C[(size_t)j * (size_t)n + (size_t)i] * x[n + i];
         s->wm[j] = sum;
     }
-    if ((rc = correct(s, x + n, s->wm)) != EOM_OK)
+    if ((rc = eom__S_correct(s, x + n, s->wm)) != EOM_OK)
         return rc;
     if (iters)
         *iters = it;

@@ -392,6 +392,11 @@ int eom__constraints_at(eom_system *s, double t, const double *q);
 int eom__factor_S(eom_system *s);
 /* Solve S z = b in place (m values). */
 int eom__S_solve(eom_system *s, double *b);
+/* The correction of least W-norm with the factors of S and Y = W^-1 C^T
+ * held: v[0..n) -= Y S^-1 r, r (m values) overwritten with S^-1 r. A
+ * status (constraints.c; the projections, their sensitivities, imex's
+ * split). */
+int eom__S_correct(eom_system *s, double *v, double *r);
 
 /* Full SVD of the rows x cols column-major A (destroyed): singular values
  * sv, all of U (rows x rows) and V^T (cols x cols), column-major (linalg.c).

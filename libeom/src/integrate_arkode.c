@@ -15,17 +15,16 @@
  * the status and message of the most recent one: when the solver fails
  * right after a failed callback, that callback's status is the cause.
  * ERKStep itself treats +1 from the right-hand side as unrecoverable
- * (ARK_UNREC_RHSFUNC_ERR); it does not retry with a smaller step.
+ * (ARK_UNREC_RHSFUNC_ERR); it does not retry with a smaller step. The
+ * callbacks, the solver's state, the setup messages and the advance are
+ * esdirk's and imex's too (integrate_arkstep.c), through ERKStep's table
+ * of functions here.
  */
-#include <float.h>
-#include <math.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include <arkode/arkode_erkstep.h>
 #include <nvector/nvector_serial.h>
-#include <sundials/sundials_context.h>
 
 #include "integrate_internal.h"
 
@@ -61,85 +60,37 @@ static int erk_table_known(const char *name)
     return 0;
 }
 
-typedef struct erk {
-    SUNContext ctx;
-    N_Vector y;                /* [N] the solver's state */
-    void *mem;                 /* ERKStep memory */
-    eom_sun_report rep;        /* why it stopped */
-} erk;
-
-static int erk_cb_result(eom_integ *it, erk *e, int rc)
-{
-    return eom__sun_cb_result(it, &e->rep, rc);
-}
-
-static int erk_rhs(sunrealtype t, N_Vector y, N_Vector yd, void *user)
-{
-    eom_integ *it = user;
-    int rc = eom__integ_rhs(it, t, N_VGetArrayPointer(y),
-                            N_VGetArrayPointer(yd));
-    return erk_cb_result(it, it->impl, rc);
-}
-
-/* After each accepted step: project y in place (or only track the
- * residual when projection is off), and watch the assembly branch. */
-static int erk_postprocess(sunrealtype t, N_Vector y, void *user)
-{
-    eom_integ *it = user;
-    /* it->t is the last output time; the messages should name this step */
-    const double t_out = it->t;
-    int rc;
-    it->t = t;
-    rc = eom__integ_project(it, N_VGetArrayPointer(y));
-    if (rc == EOM_OK)
-        rc = eom__integ_branch(it, t, N_VGetArrayPointer(y));
-    it->t = t_out;
-    return erk_cb_result(it, it->impl, rc);
-}
-
-/* A failed setup call: a status and a message naming it. */
-static int erk_setup_failed(eom_integ *it, int flag, const char *call)
-{
-    return eom__sun_setup_failed(it, ERKStepGetReturnFlagName(flag),
-                                 flag == ARK_MEM_FAIL, call);
-}
+/* ERKStep's functions for the shared advance and messages. */
+const eom_ark_stepper eom__erkstep = EOM_ARK_STEPPER(ERK);
 
 static void erk_destroy(eom_integ *it)
 {
-    erk *e = it->impl;
+    eom_ark *e = it->impl;
     if (!e)
         return;
-    ERKStepFree(&e->mem);
-    if (e->y)
-        N_VDestroy(e->y);
-    if (e->ctx)
-        SUNContext_Free(&e->ctx);
+    eom__ark_free(e);
     free(e);
     it->impl = NULL;
 }
 
 static int erk_init(eom_integ *it)
 {
-    erk *e = calloc(1, sizeof *e);
-    int flag;
+    /* the method's impl is the solver alone (integrate_arkstep.c), with
+     * no Newton matrix or linear solver */
+    eom_ark *e = calloc(1, sizeof *e);
+    int flag, rc;
     if (!e)
         return eom__integ_nomem(it);
     it->impl = e;
-    if (SUNContext_Create(NULL, &e->ctx) != 0) {
-        e->ctx = NULL;
-        return eom__integ_nomem(it);
-    }
-    e->y = N_VNew_Serial(it->N, e->ctx);
-    if (!e->y)
-        return eom__integ_nomem(it);
-    memcpy(N_VGetArrayPointer(e->y), it->y, (size_t)it->N * sizeof(double));
-    e->mem = ERKStepCreate(erk_rhs, it->t, e->y, e->ctx);
+    if ((rc = eom__ark_start(it, e, &eom__erkstep)) != EOM_OK)
+        return rc;
+    e->mem = ERKStepCreate(eom__ark_rhs, it->t, e->y, e->ctx);
     if (!e->mem)
         return eom__integ_nomem(it);
     if ((flag = ERKStepSetErrHandlerFn(e->mem, eom__sun_error, &e->rep)) < 0)
-        return erk_setup_failed(it, flag, "ERKStepSetErrHandlerFn");
+        return eom__ark_setup_failed(it, flag, "ERKStepSetErrHandlerFn");
     if ((flag = ERKStepSetUserData(e->mem, it)) < 0)
-        return erk_setup_failed(it, flag, "ERKStepSetUserData");
+        return eom__ark_setup_failed(it, flag, "ERKStepSetUserData");
     if (it->erk_table[0]) {
         if (!erk_table_known(it->erk_table))
             return eom__integ_fail(it, EOM_ERR_ARG,
@@ -147,23 +98,24 @@ static int erk_init(eom_integ *it)
                                    "lists them; docs/integrators.md too)",
                                    it->erk_table);
         if ((flag = ERKStepSetTableName(e->mem, it->erk_table)) < 0)
-            return erk_setup_failed(it, flag, "ERKStepSetTableName");
+            return eom__ark_setup_failed(it, flag, "ERKStepSetTableName");
     } else if ((flag = ERKStepSetTableNum(e->mem, ERK_TABLE)) < 0) {
-        return erk_setup_failed(it, flag, "ERKStepSetTableNum");
+        return eom__ark_setup_failed(it, flag, "ERKStepSetTableNum");
     }
     flag = eom__sun_tolerances(it, e->mem, e->ctx, it->N,
                                ERKStepSStolerances, ERKStepSVtolerances);
     if (flag == 1)
         return eom__integ_nomem(it);
     if (flag < 0)
-        return erk_setup_failed(it, flag, it->atolv ? "ERKStepSVtolerances"
-                                                 : "ERKStepSStolerances");
+        return eom__ark_setup_failed(it, flag,
+                                     it->atolv ? "ERKStepSVtolerances"
+                                               : "ERKStepSStolerances");
     /* explicitly: the default of 500 would stop tight-tolerance runs */
     if ((flag = ERKStepSetMaxNumSteps(e->mem, it->o.max_steps)) < 0)
-        return erk_setup_failed(it, flag, "ERKStepSetMaxNumSteps");
+        return eom__ark_setup_failed(it, flag, "ERKStepSetMaxNumSteps");
     if (it->o.dt > 0.0 &&
         (flag = ERKStepSetInitStep(e->mem, it->o.dt)) < 0)
-        return erk_setup_failed(it, flag, "ERKStepSetInitStep");
+        return eom__ark_setup_failed(it, flag, "ERKStepSetInitStep");
     /* Installed for every model, constraints or not: ERKStep in SUNDIALS
      * 6.4 takes the last stage of any table whose last node is c = 1 as
      * f at the new step (first-same-as-last), although for Verner 8-5-6
@@ -173,44 +125,21 @@ static int erk_init(eom_integ *it)
      * ERKStep the step may have changed y, so it evaluates f at y_n+1
      * afresh: one right-hand side per step, which a table that is not
      * FSAL needs anyway. Without constraints the function does nothing. */
-    if ((flag = ERKStepSetPostprocessStepFn(e->mem, erk_postprocess)) < 0)
-        return erk_setup_failed(it, flag, "ERKStepSetPostprocessStepFn");
+    if ((flag = ERKStepSetPostprocessStepFn(e->mem,
+                                            eom__ark_postprocess)) < 0)
+        return eom__ark_setup_failed(it, flag,
+                                     "ERKStepSetPostprocessStepFn");
     return EOM_OK;
 }
 
 static int erk_advance(eom_integ *it, double tout)
 {
-    erk *e = it->impl;
-    sunrealtype tret = it->t, tcur = it->t, hlast = 0.0;
-    int flag;
-    eom__sun_report_reset(&e->rep);
-    flag = ERKStepSetMinStep(e->mem, eom__sun_min_step(it->t, tout));
-    if (flag >= 0)
-        flag = ERKStepSetStopTime(e->mem, tout);
-    if (flag >= 0)
-        flag = ERKStepEvolve(e->mem, tout, e->y, &tret, ARK_NORMAL);
-    ERKStepGetCurrentTime(e->mem, &tcur);
-    if (flag >= 0) {
-        /* a success that did not reach tout is not one */
-        ERKStepGetLastStep(e->mem, &hlast);
-        if (tcur < tout - 100.0 * DBL_EPSILON * (fabs(tout) + fabs(hlast)))
-            return eom__integ_fail(it, EOM_ERR_SOLVER,
-                                   "erk: stopped at t = %.17g before tout "
-                                   "= %.17g (last step %.3g)", tcur, tout,
-                                   hlast);
-        memcpy(it->y, N_VGetArrayPointer(e->y),
-               (size_t)it->N * sizeof(double));
-        it->t = tout;
-        return EOM_OK;
-    }
-    /* it->y keeps the state at the last output time */
-    return eom__sun_failed(it, &e->rep, "erk", ERKStepGetReturnFlagName(flag),
-                           tcur);
+    return eom__ark_advance(it, tout, "erk");
 }
 
 static void erk_stats(const eom_integ *it, eom_stats *st)
 {
-    const erk *e = it->impl;
+    const eom_ark *e = it->impl;
     long steps = 0, etf = 0;
     ERKStepGetNumSteps(e->mem, &steps);
     ERKStepGetNumErrTestFails(e->mem, &etf);

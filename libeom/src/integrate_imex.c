@@ -45,7 +45,8 @@
  *
  * f_E and f_I at one state come from one evaluation of the model: the last
  * state's split is kept, and ARKODE asks for both parts of each stage.
- * Output times, drift and callbacks as for esdirk (integrate_esdirk.c):
+ * Output times, drift and callbacks as for esdirk (integrate_esdirk.c),
+ * whose setup, advance and statistics it shares (integrate_arkstep.c):
  * with constraints, a step postprocessing function projects every
  * accepted step and watches the assembly branch. Unlike erk's Verner
  * table (integrate_arkode.c, upstream llnl/sundials issue 311), this pair
@@ -53,16 +54,12 @@
  * new step's: measured on the spring pendulum, 5.3 with or without a
  * postprocessing function that forces fresh ones.
  */
-#include <float.h>
-#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include <arkode/arkode_arkstep.h>
 #include <nvector/nvector_serial.h>
-#include <sundials/sundials_context.h>
-#include <sunlinsol/sunlinsol_dense.h>
 #include <sunmatrix/sunmatrix_dense.h>
 
 #include "integrate_internal.h"
@@ -71,12 +68,7 @@
 #define IMEX_ERK ARKODE_ARK548L2SA_ERK_8_4_5
 
 typedef struct imex {
-    SUNContext ctx;
-    N_Vector y;                /* [N] the solver's state */
-    SUNMatrix A;               /* dense Newton matrix */
-    SUNLinearSolver LS;        /* dense LU */
-    void *mem;                 /* ARKStep memory */
-    eom_sun_report rep;        /* why it stopped */
+    eom_ark ark;               /* the solver (first: integrate_arkstep.c) */
     /* the potential tape: x = (q, qd), output V */
     tp_tape *tV;
     tp_ws *wV;
@@ -208,12 +200,7 @@ static int apply_G(eom_integ *it, imex *d, double *v)
             c += s->C[(size_t)j * (size_t)n + (size_t)i] * v[i];
         d->wm[j] = c;
     }
-    if ((rc = eom__S_solve(s, d->wm)) != EOM_OK)
-        return rc;
-    for (j = 0; j < m; j++)
-        for (i = 0; i < n; i++)
-            v[i] -= s->Y[(size_t)j * (size_t)n + (size_t)i] * d->wm[j];
-    return EOM_OK;
+    return eom__S_correct(s, v, d->wm);
 }
 
 /* Evaluate the model at (t, y) and split its right-hand side into d->f and
@@ -270,11 +257,6 @@ int eom__imex_split(eom_integ *it, double t, const double *y, double *fe,
 
 /* ---- ARKODE callbacks --------------------------------------------------- */
 
-static int ix_cb_result(eom_integ *it, imex *d, int rc)
-{
-    return eom__sun_cb_result(it, &d->rep, rc);
-}
-
 static int ix_fi(sunrealtype t, N_Vector y, N_Vector yd, void *user)
 {
     eom_integ *it = user;
@@ -282,7 +264,7 @@ static int ix_fi(sunrealtype t, N_Vector y, N_Vector yd, void *user)
     int rc = split_at(it, d, t, N_VGetArrayPointer(y));
     if (rc == EOM_OK)
         memcpy(N_VGetArrayPointer(yd), d->fi, (size_t)it->N * sizeof(double));
-    return ix_cb_result(it, d, rc);
+    return eom__ark_cb_result(it, rc);
 }
 
 static int ix_fe(sunrealtype t, N_Vector y, N_Vector yd, void *user)
@@ -294,7 +276,7 @@ static int ix_fe(sunrealtype t, N_Vector y, N_Vector yd, void *user)
     if (rc == EOM_OK)
         for (i = 0; i < it->N; i++)
             out[i] = d->f[i] - d->fi[i];
-    return ix_cb_result(it, d, rc);
+    return eom__ark_cb_result(it, rc);
 }
 
 /* J_I at (t, y), column-major with leading dimension ldj = N (see the top
@@ -350,9 +332,10 @@ static int ix_jac(sunrealtype t, N_Vector y, N_Vector fy, SUNMatrix J,
     (void)t1;
     (void)t2;
     (void)t3;
-    return ix_cb_result(it, it->impl,
-                        imex_jacobian(it, it->impl, t, N_VGetArrayPointer(y),
-                                      SM_DATA_D(J), (int)SM_ROWS_D(J)));
+    return eom__ark_cb_result(it, imex_jacobian(it, it->impl, t,
+                                                N_VGetArrayPointer(y),
+                                                SM_DATA_D(J),
+                                                (int)SM_ROWS_D(J)));
 }
 
 int eom__imex_jacobian(eom_integ *it, double t, const double *y, double *J)
@@ -369,49 +352,18 @@ int eom__imex_fixed_step(eom_integ *it, double h)
     imex *d = it->impl;
     if (!it->ops || strcmp(it->ops->name, "imex") != 0 || !d || !(h > 0.0))
         return EOM_ERR_ARG;
-    return ARKStepSetFixedStep(d->mem, h) == ARK_SUCCESS ? EOM_OK
+    return ARKStepSetFixedStep(d->ark.mem, h) == ARK_SUCCESS ? EOM_OK
                                                          : EOM_ERR_SOLVER;
 }
 
-/* With constraints, after each accepted step: project y in place (or only
- * track the residual when projection is off) and watch the assembly
- * branch. */
-static int ix_postprocess(sunrealtype t, N_Vector y, void *user)
-{
-    eom_integ *it = user;
-    /* it->t is the last output time; the messages should name this step */
-    const double t_out = it->t;
-    int rc;
-    it->t = t;
-    rc = eom__integ_project(it, N_VGetArrayPointer(y));
-    if (rc == EOM_OK)
-        rc = eom__integ_branch(it, t, N_VGetArrayPointer(y));
-    it->t = t_out;
-    return ix_cb_result(it, it->impl, rc);
-}
-
 /* ---- the method --------------------------------------------------------- */
-
-static int ix_setup_failed(eom_integ *it, int flag, const char *call)
-{
-    return eom__sun_setup_failed(it, ARKStepGetReturnFlagName(flag),
-                                 flag == ARK_MEM_FAIL, call);
-}
 
 static void ix_destroy(eom_integ *it)
 {
     imex *d = it->impl;
     if (!d)
         return;
-    ARKStepFree(&d->mem);
-    if (d->LS)
-        SUNLinSolFree(d->LS);
-    if (d->A)
-        SUNMatDestroy(d->A);
-    if (d->y)
-        N_VDestroy(d->y);
-    if (d->ctx)
-        SUNContext_Free(&d->ctx);
+    eom__ark_free(&d->ark);
     tp_ws_free(&d->wV);
     tp_tape_free(&d->tV);
     free(d->pmap);
@@ -431,7 +383,7 @@ static int ix_init(eom_integ *it)
 {
     const int n = it->n, N = it->N, m = it->s->m;
     imex *d = calloc(1, sizeof *d);
-    int flag, rc;
+    int rc;
     if (!d)
         return eom__integ_nomem(it);
     it->impl = d;
@@ -448,100 +400,14 @@ static int ix_init(eom_integ *it)
     if (!d->ykey || !d->f || !d->fi || !d->gV || !d->HV || !d->HR ||
         !d->Kc || !d->wm)
         return eom__integ_nomem(it);
-    if (SUNContext_Create(NULL, &d->ctx) != 0) {
-        d->ctx = NULL;
-        return eom__integ_nomem(it);
-    }
-    d->y = N_VNew_Serial(N, d->ctx);
-    if (!d->y)
-        return eom__integ_nomem(it);
-    memcpy(N_VGetArrayPointer(d->y), it->y, (size_t)N * sizeof(double));
-    d->mem = ARKStepCreate(ix_fe, ix_fi, it->t, d->y, d->ctx);
-    if (!d->mem)
-        return eom__integ_nomem(it);
-    if ((flag = ARKStepSetErrHandlerFn(d->mem, eom__sun_error, &d->rep)) < 0)
-        return ix_setup_failed(it, flag, "ARKStepSetErrHandlerFn");
-    if ((flag = ARKStepSetUserData(d->mem, it)) < 0)
-        return ix_setup_failed(it, flag, "ARKStepSetUserData");
-    if ((flag = ARKStepSetTableNum(d->mem, IMEX_DIRK, IMEX_ERK)) < 0)
-        return ix_setup_failed(it, flag, "ARKStepSetTableNum");
-    flag = eom__sun_tolerances(it, d->mem, d->ctx, N, ARKStepSStolerances,
-                               ARKStepSVtolerances);
-    if (flag == 1)
-        return eom__integ_nomem(it);
-    if (flag < 0)
-        return ix_setup_failed(it, flag, it->atolv ? "ARKStepSVtolerances"
-                                                : "ARKStepSStolerances");
-    d->A = SUNDenseMatrix(N, N, d->ctx);
-    if (!d->A)
-        return eom__integ_nomem(it);
-    d->LS = SUNLinSol_Dense(d->y, d->A, d->ctx);
-    if (!d->LS)
-        return eom__integ_nomem(it);
-    if ((flag = ARKStepSetLinearSolver(d->mem, d->LS, d->A)) < 0)
-        return ix_setup_failed(it, flag, "ARKStepSetLinearSolver");
-    if (!it->o.dq_jacobian && (flag = ARKStepSetJacFn(d->mem, ix_jac)) < 0)
-        return ix_setup_failed(it, flag, "ARKStepSetJacFn");
-    /* explicitly: the default of 500 would stop tight-tolerance runs */
-    if ((flag = ARKStepSetMaxNumSteps(d->mem, it->o.max_steps)) < 0)
-        return ix_setup_failed(it, flag, "ARKStepSetMaxNumSteps");
-    if (it->o.dt > 0.0 &&
-        (flag = ARKStepSetInitStep(d->mem, it->o.dt)) < 0)
-        return ix_setup_failed(it, flag, "ARKStepSetInitStep");
-    /* as esdirk: the stages' Newton iterations start from the last step's
-     * interpolant at full order */
-    if ((flag = ARKStepSetPredictorMethod(d->mem, 1)) < 0)
-        return ix_setup_failed(it, flag, "ARKStepSetPredictorMethod");
-    if (m > 0 &&
-        (flag = ARKStepSetPostprocessStepFn(d->mem, ix_postprocess)) < 0)
-        return ix_setup_failed(it, flag, "ARKStepSetPostprocessStepFn");
-    return EOM_OK;
+    return eom__ark_implicit_init(it, &d->ark, ix_fe, ix_fi, ix_jac,
+                                  IMEX_DIRK, IMEX_ERK);
 }
 
 static int ix_advance(eom_integ *it, double tout)
 {
-    imex *d = it->impl;
-    sunrealtype tret = it->t, tcur = it->t, hlast = 0.0;
-    int flag;
-    eom__sun_report_reset(&d->rep);
-    flag = ARKStepSetMinStep(d->mem, eom__sun_min_step(it->t, tout));
-    if (flag >= 0)
-        flag = ARKStepSetStopTime(d->mem, tout);
-    if (flag >= 0)
-        flag = ARKStepEvolve(d->mem, tout, d->y, &tret, ARK_NORMAL);
-    ARKStepGetCurrentTime(d->mem, &tcur);
-    if (flag >= 0) {
-        /* a success that did not reach tout is not one */
-        ARKStepGetLastStep(d->mem, &hlast);
-        if (tcur < tout - 100.0 * DBL_EPSILON * (fabs(tout) + fabs(hlast)))
-            return eom__integ_fail(it, EOM_ERR_SOLVER,
-                                   "imex: stopped at t = %.17g before "
-                                   "tout = %.17g (last step %.3g)", tcur,
-                                   tout, hlast);
-        memcpy(it->y, N_VGetArrayPointer(d->y),
-               (size_t)it->N * sizeof(double));
-        it->t = tout;
-        return EOM_OK;
-    }
-    /* it->y keeps the state at the last output time */
-    return eom__sun_failed(it, &d->rep, "imex",
-                           ARKStepGetReturnFlagName(flag), tcur);
+    return eom__ark_advance(it, tout, "imex");
 }
 
-static void ix_stats(const eom_integ *it, eom_stats *st)
-{
-    const imex *d = it->impl;
-    long steps = 0, etf = 0, ncf = 0, nje = 0;
-    ARKStepGetNumSteps(d->mem, &steps);
-    ARKStepGetNumErrTestFails(d->mem, &etf);
-    ARKStepGetNumNonlinSolvConvFails(d->mem, &ncf);
-    ARKStepGetNumJacEvals(d->mem, &nje);
-    st->steps = steps;
-    st->failures = etf + ncf;
-    st->jac_evals = nje;
-    /* rhs_evals: the common counter, one per evaluation of the model (a
-     * stage's f_E and f_I share one) */
-}
-
-const eom_integ_ops eom__imex_ops = {"imex", ix_init, ix_advance, ix_stats,
-                                     ix_destroy};
+const eom_integ_ops eom__imex_ops = {"imex", ix_init, ix_advance,
+                                     eom__ark_stats, ix_destroy};

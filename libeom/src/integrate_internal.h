@@ -9,8 +9,11 @@
 #ifndef EOM_INTEGRATE_INTERNAL_H
 #define EOM_INTEGRATE_INTERNAL_H
 
+#include <arkode/arkode_arkstep.h>
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
+#include <sundials/sundials_linearsolver.h>
+#include <sundials/sundials_matrix.h>
 
 #include "eom_internal.h"
 
@@ -212,6 +215,81 @@ int eom__sun_failed(eom_integ *it, const eom_sun_report *r,
                     const char *method, char *flag_name, double t);
 /* The smallest step to allow while advancing from t to tout. */
 double eom__sun_min_step(double t, double tout);
+
+/* ---- what the ARKODE methods share (integrate_arkstep.c) ------------- */
+
+/* The functions of an ARKODE stepper that the shared code calls: ERKStep's
+ * and ARKStep's have the same signatures under their own prefixes. */
+typedef struct eom_ark_stepper {
+    void (*free_mem)(void **mem);
+    int (*set_min_step)(void *mem, sunrealtype hmin);
+    int (*set_stop_time)(void *mem, sunrealtype tstop);
+    int (*evolve)(void *mem, sunrealtype tout, N_Vector yout,
+                  sunrealtype *tret, int itask);
+    int (*get_current_time)(void *mem, sunrealtype *tcur);
+    int (*get_last_step)(void *mem, sunrealtype *hlast);
+    char *(*flag_name)(long flag); /* allocated, as GetReturnFlagName */
+} eom_ark_stepper;
+/* The table of the stepper whose functions begin with P (ERK, ARK). */
+#define EOM_ARK_STEPPER(P)                                                 \
+    {                                                                      \
+        .free_mem = P##StepFree, .set_min_step = P##StepSetMinStep,        \
+        .set_stop_time = P##StepSetStopTime, .evolve = P##StepEvolve,      \
+        .get_current_time = P##StepGetCurrentTime,                         \
+        .get_last_step = P##StepGetLastStep,                               \
+        .flag_name = P##StepGetReturnFlagName,                             \
+    }
+extern const eom_ark_stepper eom__erkstep; /* integrate_arkode.c */
+extern const eom_ark_stepper eom__arkstep; /* integrate_arkstep.c */
+
+/* The solver of an ARKODE method (erk, esdirk, imex). It is the first
+ * member of each method's impl, so that the functions below, given the
+ * integrator (as a callback's user data), find it at it->impl. */
+typedef struct eom_ark {
+    const eom_ark_stepper *step; /* NULL before eom__ark_start */
+    SUNContext ctx;
+    N_Vector y;                /* [N] the solver's state */
+    SUNMatrix A;               /* dense Newton matrix (ARKStep), or NULL */
+    SUNLinearSolver LS;        /* dense LU (ARKStep), or NULL */
+    void *mem;                 /* ERKStep or ARKStep memory */
+    eom_sun_report rep;        /* why it stopped */
+} eom_ark;
+
+/* The solver's return value for a callback status (eom__sun_cb_result
+ * with it->impl's report). */
+int eom__ark_cb_result(eom_integ *it, int rc);
+/* The right-hand side as an ARKRhsFn (user data: the integrator). */
+int eom__ark_rhs(sunrealtype t, N_Vector y, N_Vector yd, void *user);
+/* After each accepted step, an ARKPostProcessFn (user data: the
+ * integrator): project y in place (or only track the residual when
+ * projection is off), and watch the assembly branch. */
+int eom__ark_postprocess(sunrealtype t, N_Vector y, void *user);
+/* Start a with the stepper step: the context, and the state vector
+ * holding it->y; a status. */
+int eom__ark_start(eom_integ *it, eom_ark *a, const eom_ark_stepper *step);
+/* Free what a holds; NULL members are skipped. */
+void eom__ark_free(eom_ark *a);
+/* A failed setup call of it->impl's stepper: a status and a message
+ * naming the call and the flag. */
+int eom__ark_setup_failed(eom_integ *it, int flag, const char *call);
+/* Advance it->impl's solver to exactly tout (the stop time); messages
+ * name method. A status (it->y keeps the last output state on
+ * failure). */
+int eom__ark_advance(eom_integ *it, double tout, const char *method);
+
+/* ARKStep with a dense Newton solver (esdirk, imex): start a
+ * (eom__ark_start) and create its solver from the parts fe and fi
+ * (fe NULL: all implicit), with the implicit and explicit tables itable
+ * and etable (ARKODE_ERK_NONE: none) and the Jacobian jac of fi (unused
+ * with o.dq_jacobian); the tolerances, step limits and, with
+ * constraints, eom__ark_postprocess. A status with a message. */
+int eom__ark_implicit_init(eom_integ *it, eom_ark *a, ARKRhsFn fe,
+                           ARKRhsFn fi, ARKLsJacFn jac,
+                           ARKODE_DIRKTableID itable,
+                           ARKODE_ERKTableID etable);
+/* Steps, failed steps (error test and Newton) and Jacobians of an ARKStep
+ * solver (it->impl). */
+void eom__ark_stats(const eom_integ *it, eom_stats *st);
 
 /* The methods. */
 extern const eom_integ_ops eom__rk4_ops;

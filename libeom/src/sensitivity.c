@@ -44,19 +44,6 @@ static void seed_params(const eom_system *s, int ns, const int *par,
             seed[(size_t)(first + par[k]) * ns + k] = 1.0;
 }
 
-/* v[0..n) -= Y S^-1 r, r (m) overwritten. */
-static int correct(eom_system *s, double *v, double *r)
-{
-    const int n = s->n, m = s->m;
-    int i, j, rc;
-    if ((rc = eom__S_solve(s, r)) != EOM_OK)
-        return rc;
-    for (j = 0; j < m; j++)
-        for (i = 0; i < n; i++)
-            v[i] -= s->Y[(size_t)j * (size_t)n + (size_t)i] * r[j];
-    return EOM_OK;
-}
-
 int eom__sens_project(eom_system *s, double t, const double *x, int identity,
                       int ns, const int *par, double *const *V,
                       double *work)
@@ -92,7 +79,8 @@ int eom__sens_project(eom_system *s, double t, const double *x, int identity,
         for (k = 0; k < ns; k++) {
             for (j = 0; j < m; j++)
                 s->wm[j] = JS[(size_t)(row + j) * ns + k];
-            if ((rc = correct(s, V[k] + pass * n, s->wm)) != EOM_OK)
+            rc = eom__S_correct(s, V[k] + pass * n, s->wm);
+            if (rc != EOM_OK)
                 return rc;
         }
     }

@@ -271,6 +271,29 @@ static double last_value(const result *r, const char *name)
     return v;
 }
 
+/* The derivatives d[i] of the last row's values of the ns states with
+ * respect to the input name at base, by central differences of two whole
+ * runs of fdargs with --set name=base + h and base - h (setarg, of len
+ * bytes, is fdargs's --set value). Checks that both runs succeed. */
+static void fd_of_runs(const char *const *fdargs, char *setarg, size_t len,
+                       const char *name, double base, double h,
+                       const char *const *states, int ns, double *d)
+{
+    result rp, rm;
+    int i;
+    snprintf(setarg, len, "%s=%.17g", name, base + h);
+    run(&rp, fdargs);
+    snprintf(setarg, len, "%s=%.17g", name, base - h);
+    run(&rm, fdargs);
+    CHECK_INT(rp.status, 0);
+    CHECK_INT(rm.status, 0);
+    for (i = 0; i < ns; i++)
+        d[i] = (last_value(&rp, states[i]) - last_value(&rm, states[i])) /
+               (2.0 * h);
+    result_free(&rp);
+    result_free(&rm);
+}
+
 /* --sensitivity: the columns' names and order, their values at the start
  * (unit vectors, zeros), and at t = 1 against central differences of
  * whole runs with --set (a parameter, an initial coordinate and an
@@ -295,7 +318,8 @@ static void case_sensitivity(void)
                             "--rtol", "1e-11", "--atol", "1e-13",
                             "--t-end", "1", "--sample", "0.5", "--set",
                             setarg, "-q", NULL};
-    result r, rp, rm;
+    result r;
+    double fd[4];
     csv c;
     char msg[256];
     int k, i;
@@ -313,27 +337,16 @@ static void case_sensitivity(void)
     CHECK(at(&c, 0, csv_col(&c, "d(r)/d(k)")) == 0.0);
     free(c.v);
     for (k = 0; k < 3; k++) {
-        const double h = step[k];
-        snprintf(setarg, sizeof setarg, "%s=%.17g", inputs[k],
-                 base[k] + h);
-        run(&rp, fdargs);
-        snprintf(setarg, sizeof setarg, "%s=%.17g", inputs[k],
-                 base[k] - h);
-        run(&rm, fdargs);
-        CHECK_INT(rp.status, 0);
-        CHECK_INT(rm.status, 0);
+        fd_of_runs(fdargs, setarg, sizeof setarg, inputs[k], base[k],
+                   step[k], states, 4, fd);
         for (i = 0; i < 4; i++) {
-            const double fd = (last_value(&rp, states[i]) -
-                               last_value(&rm, states[i])) / (2.0 * h);
             snprintf(col, sizeof col, "d(%s)/d(%s)", states[i], inputs[k]);
             /* measured within 2e-8 of each other */
             if (getenv("EOM_TEST_VERBOSE"))
                 fprintf(stderr, "%s: %.10g vs %.10g\n", col,
-                        last_value(&r, col), fd);
-            CHECK_NEAR(last_value(&r, col), fd, 2e-7);
+                        last_value(&r, col), fd[i]);
+            CHECK_NEAR(last_value(&r, col), fd[i], 2e-7);
         }
-        result_free(&rp);
-        result_free(&rm);
     }
     result_free(&r);
 
@@ -367,7 +380,8 @@ static void case_sensitivity_constraints(void)
     const char *fdargs[] = {"four-bar", "--integrator", "erk", "--rtol",
                             "1e-13", "--atol", "1e-15", "--t-end", "1",
                             "--sample", "0.5", "--set", setarg, "-q", NULL};
-    result r, rp, rm;
+    result r;
+    double fd[6];
     csv c;
     char msg[256];
     int k, i, mi;
@@ -385,26 +399,16 @@ static void case_sensitivity_constraints(void)
         CHECK(fabs(at(&c, 0, csv_col(&c, "d(th3)/d(th1)"))) > 0.1);
         free(c.v);
         for (k = 0; k < 2; k++) {
-            snprintf(setarg, sizeof setarg, "%s=%.17g", inputs[k],
-                     base[k] + h);
-            run(&rp, fdargs);
-            snprintf(setarg, sizeof setarg, "%s=%.17g", inputs[k],
-                     base[k] - h);
-            run(&rm, fdargs);
-            CHECK_INT(rp.status, 0);
-            CHECK_INT(rm.status, 0);
+            fd_of_runs(fdargs, setarg, sizeof setarg, inputs[k], base[k], h,
+                       states, 6, fd);
             for (i = 0; i < 6; i++) {
-                const double fd = (last_value(&rp, states[i]) -
-                                   last_value(&rm, states[i])) / (2.0 * h);
                 snprintf(col, sizeof col, "d(%s)/d(%s)", states[i],
                          inputs[k]);
                 if (getenv("EOM_TEST_VERBOSE"))
                     fprintf(stderr, "%s %s: %.10g vs %.10g\n",
-                            methods[mi], col, last_value(&r, col), fd);
-                CHECK_NEAR(last_value(&r, col), fd, 1e-6);
+                            methods[mi], col, last_value(&r, col), fd[i]);
+                CHECK_NEAR(last_value(&r, col), fd[i], 1e-6);
             }
-            result_free(&rp);
-            result_free(&rm);
         }
         result_free(&r);
     }

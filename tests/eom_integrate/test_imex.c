@@ -43,6 +43,7 @@
 #include "eom_models.h"
 #include "hand_ref.h"
 #include "integrate_internal.h"
+#include "support_num.h"
 
 #define NMAX 40
 
@@ -111,6 +112,17 @@ static eom_system *two_mass(void)
     if (eom_system_new(&s, md, msg, sizeof msg) != EOM_OK)
         CHECK_FAIL_("two-mass model: %s", msg);
     eom_model_free(&md);
+    return s;
+}
+
+/* The system of *md, which is freed and set to NULL; NULL, with a failed
+ * check, when it cannot be made. */
+static eom_system *system_of(eom_model **md)
+{
+    eom_system *s = NULL;
+    char msg[256];
+    CHECK_INT(eom_system_new(&s, *md, msg, sizeof msg), EOM_OK);
+    eom_model_free(md);
     return s;
 }
 
@@ -245,13 +257,11 @@ static void split_spring_and_fourbar(void)
     eom_model *md = eom_models_spring_pendulum(1.0, 75.0, 1.0, 9.81);
     eom_system *s = NULL;
     eom_integ *it;
-    char msg[256];
     double x[2 * NMAX], fe[2 * NMAX + 1], fi[2 * NMAX + 1], worst = 0.0;
     double hand = 0.0;
     unsigned seed = 777u;
     int k, i;
-    CHECK_INT(eom_system_new(&s, md, msg, sizeof msg), EOM_OK);
-    eom_model_free(&md);
+    s = system_of(&md);
     if (!s)
         return;
     CHECK_INT(eom_initial_state(s, x), EOM_OK);
@@ -294,8 +304,7 @@ static void split_spring_and_fourbar(void)
         worst = 0.0;
         md = eom_models_rod_chain(3, m, l, th0, 9.81, 1, 0.0);
         CHECK(md != NULL);
-        CHECK_INT(eom_system_new(&s, md, msg, sizeof msg), EOM_OK);
-        eom_model_free(&md);
+        s = system_of(&md);
         if (!s)
             return;
         CHECK_INT(eom_initial_state(s, x), EOM_OK);
@@ -369,20 +378,6 @@ static int run(eom_system *s, eom_method m, double tol, int per_step,
     return rc;
 }
 
-static double slope(int n, const double *x, const double *err)
-{
-    double sx = 0, sy = 0, sxx = 0, sxy = 0;
-    int i;
-    for (i = 0; i < n; i++) {
-        const double a = log(x[i]), b = log(err[i]);
-        sx += a;
-        sy += b;
-        sxx += a * a;
-        sxy += a * b;
-    }
-    return (n * sxy - sx * sy) / (n * sxx - sx * sx);
-}
-
 /* error against steps of imex over rtol = atol = 10^-top .. 10^-(top+4) */
 static double order_on(eom_system *s, const double *ref, int top,
                        const char *what)
@@ -398,7 +393,7 @@ static double order_on(eom_system *s, const double *ref, int top,
         printf("%s: imex tol %-6g steps %6ld error %.3g (%.3g x tol)\n",
                what, tol, st, err[i], err[i] / tol);
     }
-    p = -slope(5, steps, err);
+    p = -num_loglog_slope(5, steps, err);
     printf("%s: imex observed order %.2f (nominal 5)\n", what, p);
     return p;
 }
@@ -408,10 +403,8 @@ static void order(void)
     eom_model *md = eom_models_spring_pendulum(1.0, 75.0, 1.0, 9.81);
     eom_system *s = NULL;
     double ref[4] = {1.1, 0.5, 0.0, 0.0}, ref2[4], p;
-    char msg[256];
     long st;
-    CHECK_INT(eom_system_new(&s, md, msg, sizeof msg), EOM_OK);
-    eom_model_free(&md);
+    s = system_of(&md);
     if (!s)
         return;
     /* the model's start: r = r0 + 0.1, theta = 0.5, at rest */
@@ -486,7 +479,7 @@ static void order(void)
             printf("spring pendulum k 7500: imex fixed h 1/%d error %.3g\n",
                    100 << i, err[i]);
         }
-        p = slope(4, hs, err);
+        p = num_loglog_slope(4, hs, err);
         printf("spring pendulum k 7500: imex order with fixed steps %.2f "
                "(nominal 5)\n", p);
         CHECK(p > 4.5 && p < 6.0);
@@ -515,8 +508,7 @@ static void stiff(void)
         CHECK_FAIL_("stiff spring model: %s", msg);
         return;
     }
-    CHECK_INT(eom_system_new(&s, md, msg, sizeof msg), EOM_OK);
-    eom_model_free(&md);
+    s = system_of(&md);
     if (!s)
         return;
     CHECK_INT(run(s, EOM_ERK, 1e-12, 1, 2.0, xr, &sr, NULL), EOM_OK);
@@ -592,12 +584,10 @@ static void shipped(const char *dir)
         const double th0[3] = {1.2, 0.1, -1.4};
         eom_model *md = eom_models_rod_chain(3, m, l, th0, 9.81, 1, 0.0);
         eom_system *s = NULL;
-        char msg[256];
         double x[6];
         /* the start on the constraints: the rods' angles as given are
          * not, so the run starts from the projected state */
-        CHECK_INT(eom_system_new(&s, md, msg, sizeof msg), EOM_OK);
-        eom_model_free(&md);
+        s = system_of(&md);
         if (s) {
             CHECK_INT(eom_initial_state(s, x), EOM_OK);
             CHECK_INT(eom_project_start(s, x, 1e-13, NULL), EOM_OK);
@@ -607,8 +597,7 @@ static void shipped(const char *dir)
         }
         eom_system_free(&s);
         md = eom_models_bead_on_circle(1.0, 1.0, 9.81);
-        CHECK_INT(eom_system_new(&s, md, msg, sizeof msg), EOM_OK);
-        eom_model_free(&md);
+        s = system_of(&md);
         if (s) {
             /* on the circle at 0.7 rad from the bottom, moving along it */
             x[0] = sin(0.7);
@@ -659,14 +648,12 @@ static void failure(void)
     eom_integ *it = NULL;
     eom_opts o;
     double x[2] = {1.0, -1.0}, W = 0.0;
-    char msg[256];
     int rc = EOM_OK, k, rc2;
     CHECK_INT(eom_model_new(&md), EOM_OK);
     eom_model_add_coord(md, "x", "m", 1.0, -1.0);
     eom_model_set_kinetic(md, fall_T, NULL);
     eom_model_set_potential(md, fall_V, NULL);
-    CHECK_INT(eom_system_new(&s, md, msg, sizeof msg), EOM_OK);
-    eom_model_free(&md);
+    s = system_of(&md);
     if (!s)
         return;
     eom_opts_default(&o);
@@ -695,7 +682,6 @@ static void refusals(void)
     eom_integ *it = NULL;
     eom_opts o;
     double x[2] = {1.0, 0.0};
-    char msg[256];
     int sens[1] = {0};
     CHECK_INT(eom_method_from_name("imex"), EOM_IMEX);
     CHECK(strcmp(eom_method_name(EOM_IMEX), "imex") == 0);
@@ -705,8 +691,7 @@ static void refusals(void)
     CHECK_INT(eom_model_new(&md), EOM_OK);
     eom_model_add_coord(md, "x", "m", 1.0, 0.0);
     eom_model_set_lagrangian(md, lag_L, NULL);
-    CHECK_INT(eom_system_new(&s, md, msg, sizeof msg), EOM_OK);
-    eom_model_free(&md);
+    s = system_of(&md);
     if (!s)
         return;
     eom_opts_default(&o);
@@ -724,8 +709,7 @@ static void refusals(void)
     eom_system_free(&s);
 
     md = eom_models_spring_pendulum(1.0, 75.0, 1.0, 9.81);
-    CHECK_INT(eom_system_new(&s, md, msg, sizeof msg), EOM_OK);
-    eom_model_free(&md);
+    s = system_of(&md);
     if (!s)
         return;
     {

@@ -33,6 +33,7 @@
 #include "check.h"
 #include "eom_models.h"
 #include "hand_ref.h"
+#include "support_num.h"
 
 /* the spring pendulum of hand_ref.h */
 static const double M_ = 1.0, K_ = 75.0, R0_ = 1.0, G_ = 9.81, T_END = 10.0;
@@ -177,21 +178,6 @@ static void tolerances(void)
     eom_system_free(&s);
 }
 
-/* least-squares slope of log(err) against log(x) */
-static double slope(int n, const double *x, const double *err)
-{
-    double sx = 0, sy = 0, sxx = 0, sxy = 0;
-    int i;
-    for (i = 0; i < n; i++) {
-        const double a = log(x[i]), b = log(err[i]);
-        sx += a;
-        sy += b;
-        sxx += a * a;
-        sxy += a * b;
-    }
-    return (n * sxy - sx * sy) / (n * sxx - sx * sx);
-}
-
 int main(void)
 {
     eom_system *s = NULL;
@@ -223,7 +209,7 @@ int main(void)
         err[i] = max_diff(x, ref2);
         printf("rk4 dt %-8g error %.3g\n", dt, err[i]);
     }
-    p = slope(3, xs, err);
+    p = num_loglog_slope(3, xs, err);
     printf("rk4: observed order %.2f (nominal 4)\n", p);
     CHECK(p > 3.5 && p < 4.5);
 
@@ -236,7 +222,7 @@ int main(void)
         printf("erk tol %-6g steps %6ld error %.3g (%.3g x tol)\n", tol,
                steps, err[i], err[i] / tol);
     }
-    p = -slope(5, xs, err);
+    p = -num_loglog_slope(5, xs, err);
     printf("erk: observed order %.2f (nominal 6)\n", p);
     CHECK(p > 5.5);
     verner_steps = xs[4];
@@ -250,7 +236,7 @@ int main(void)
         printf("esdirk tol %-6g steps %6ld error %.3g (%.3g x tol)\n", tol,
                steps, err[i], err[i] / tol);
     }
-    p = -slope(5, xs, err);
+    p = -num_loglog_slope(5, xs, err);
     printf("esdirk: observed order %.2f (nominal 5)\n", p);
     CHECK(p > 4.5);
 
@@ -282,7 +268,7 @@ int main(void)
         xs[i] = (double)st.steps;
         err[i] = max_diff(x, ref2);
     }
-    p = -slope(5, xs, err);
+    p = -num_loglog_slope(5, xs, err);
     printf("erk, Dormand-Prince 5(4): observed order %.2f (nominal 5), "
            "%g steps at 1e-10 against Verner's %g\n", p, xs[4],
            verner_steps);

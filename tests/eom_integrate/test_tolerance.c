@@ -52,6 +52,7 @@
 #include "check.h"
 #include "eom/model_file.h"
 #include "hand_ref.h"
+#include "support_num.h"
 
 #define T_END 10.0
 #define NMAX 32
@@ -82,21 +83,6 @@ static long last_steps; /* accepted steps of the latest run() */
 static double last_reach; /* its eom_stats.tol_reachable */
 static double ref_slack;  /* what the reference may be off by: twice the
                              difference of its two routes (chains) */
-
-/* least-squares slope of log(err) against log(x) */
-static double slope(int n, const double *x, const double *err)
-{
-    double sx = 0, sy = 0, sxx = 0, sxy = 0;
-    int i;
-    for (i = 0; i < n; i++) {
-        const double a = log(x[i]), b = log(err[i]);
-        sx += a;
-        sy += b;
-        sxx += a * a;
-        sxy += a * b;
-    }
-    return (n * sxy - sx * sy) / (n * sxx - sx * sx);
-}
 
 /* the state at T_END by method m from the model's initial state */
 static int max_order;    /* o.max_order of run() */
@@ -209,7 +195,7 @@ static void check_model(const char *name, eom_system *s, const double *ref)
                 CHECK_FAIL_("%s: %s at tol 1e-12: error %.3g > 1e-8", name,
                             eom_method_name(adaptive[i]), err);
         }
-        printf("  order %.2f\n", -slope(4, steps, errs));
+        printf("  order %.2f\n", -num_loglog_slope(4, steps, errs));
     }
 }
 
@@ -234,7 +220,7 @@ static void check_orders(const char *name, eom_system *s, const double *ref)
                 errs[j] = max_diff(len, x, ref);
                 steps[j] = (double)last_steps;
             }
-            p = -slope(4, steps, errs);
+            p = -num_loglog_slope(4, steps, errs);
             printf(" %d:%.2f", k, p);
             /* adams never picks an order above 8 at these tolerances
              * here: its runs for k > 8 are those of k = 8 */
