@@ -215,8 +215,8 @@ EOM_API const char *eom_system_errmsg(const eom_system *s);
 
 /* Compiled tapes (docs/libeom.md, "Compiled tapes"). With on = 1 the
  * tapes of s are emitted as C, in the sweeps its evaluations call, built
- * by the system's C compiler (CC, else cc; flags -O1) into a per-user
- * cache ($AUTOEOM_CACHE_DIR, else $XDG_CACHE_HOME/autoeom, else
+ * by the system's C compiler (CC, else cc; flags -O1, libtape.md) into a
+ * per-user cache ($AUTOEOM_CACHE_DIR, else $XDG_CACHE_HOME/autoeom, else
  * ~/.cache/autoeom), loaded, and checked against the interpreter at the
  * model's initial state; from then on the right-hand sides, energies and
  * probes of s run the compiled code, with the interpreter's results (the
