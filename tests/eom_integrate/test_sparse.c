@@ -29,6 +29,7 @@
 #include "eom/model_file.h"
 #include "eom_internal.h"
 #include "mass_line.h"
+#include "sparse_compare.h"
 #include "support_rng.h"
 
 static const char *models_dir = "models";
@@ -91,11 +92,12 @@ static double compare(const char *label, eom_system *s, int npts,
     double *Yp = malloc((size_t)NY * sizeof *Yp);
     double *D = malloc((size_t)NY * (size_t)NY * sizeof *D);
     double *rowmax = malloc((size_t)NY * sizeof *rowmax);
-    double *data = NULL, cj, worst = 0.0;
+    double *data = NULL, cj;
+    sparse_diff f = {0, 0, 0.0, 0};
     char *in = calloc((size_t)NY * (size_t)NY, 1);
     eom_dae_pattern p;
     rng g = rng_seed(seed);
-    int k, c, r, missing = 0, off = 0;
+    int k, c;
     size_t e;
     CHECK(Y && Yp && D && rowmax && in);
     CHECK_INT(eom__dae_pattern(s, &p), EOM_OK);
@@ -118,37 +120,14 @@ static double compare(const char *label, eom_system *s, int npts,
         CHECK_INT(eom__dae_jacobian(s, 0.3, Y, Yp, cj, D, NY), EOM_OK);
         CHECK_INT(eom__dae_jacobian_sparse(s, 0.3, Y, Yp, cj, data),
                   EOM_OK);
-        for (r = 0; r < NY; r++)
-            rowmax[r] = 0.0;
-        for (c = 0; c < NY; c++)
-            for (r = 0; r < NY; r++) {
-                const double v = D[(size_t)c * NY + r];
-                rowmax[r] = fmax(rowmax[r], fabs(v));
-                if (v != 0.0 && !in[(size_t)c * NY + r] && missing++ < 5)
-                    CHECK_FAIL_("%s: dense entry (%d, %d) = %g is not in "
-                                "the pattern", label, r, c, v);
-            }
-        for (c = 0; c < NY; c++)
-            for (e = (size_t)p.colptr[c]; e < (size_t)p.colptr[c + 1];
-                 e++) {
-                const int row = (int)p.rowind[e];
-                const double d = D[(size_t)c * NY + row];
-                const double scale = fmax(fabs(d), rowmax[row]);
-                const double rel = scale > 0.0 ? fabs(data[e] - d) / scale
-                                               : fabs(data[e]);
-                if (fabs(data[e] - d) >
-                        1e-14 * fmax(fabs(d), rowmax[row] * 1e-2) &&
-                    off++ < 5)
-                    CHECK_FAIL_("%s: entry (%d, %d): sparse %.17g, dense "
-                                "%.17g", label, row, c, data[e], d);
-                worst = fmax(worst, rel);
-            }
+        sparse_compare(label, NY, D, in, p.colptr, p.rowind, data, rowmax,
+                       0, 0, &f);
     }
     check_count_ += 2;
     printf("%-22s NY %4d, %6zu entries (%.1f%%), %d colours, %d reverse "
            "rows; sparse - dense <= %.1e of the row\n", label, NY, p.nnz,
            100.0 * (double)p.nnz / ((double)NY * NY), p.colors,
-           p.reverse_rows, worst);
+           p.reverse_rows, f.worst);
 out:
     free(Y);
     free(Yp);
@@ -156,7 +135,7 @@ out:
     free(rowmax);
     free(data);
     free(in);
-    return worst;
+    return f.worst;
 }
 
 static void patterns(void)

@@ -33,6 +33,7 @@
 #include "eom/model_file.h"
 #include "eom_internal.h"
 #include "mass_line.h"
+#include "sparse_compare.h"
 #include "support_rng.h"
 
 static const char *models_dir = "models";
@@ -82,12 +83,12 @@ static double compare(const char *label, eom_system *s, int npts,
     double *y = malloc((size_t)N * sizeof *y);
     double *D = malloc((size_t)N * (size_t)N * sizeof *D);
     double *rowmax = malloc((size_t)N * sizeof *rowmax);
-    double *data = NULL, worst = 0.0;
+    double *data = NULL;
+    sparse_diff f = {0, 0, 0.0, 0};
     char *in = calloc((size_t)N * (size_t)N, 1);
     eom_ode_pattern p;
     rng g = rng_seed(seed);
-    int k, c, r, i, missing = 0, off = 0;
-    long inexact = 0; /* entries of X not equal bit for bit */
+    int k, c, i;
     size_t e;
     CHECK(y && D && rowmax && in);
     CHECK_INT(eom__ode_pattern(s, &p), EOM_OK);
@@ -120,47 +121,22 @@ static double compare(const char *label, eom_system *s, int npts,
         y[2 * n] = rng_range(&g, -2.0, 2.0);
         CHECK_INT(eom__state_jacobian(s, 0.3, y, D, N, 1), EOM_OK);
         CHECK_INT(eom__state_jacobian_sparse(s, 0.3, y, data), EOM_OK);
-        for (r = 0; r < N; r++)
-            rowmax[r] = 0.0;
-        for (c = 0; c < N; c++)
-            for (r = 0; r < N; r++) {
-                const double v = D[(size_t)c * N + r];
-                rowmax[r] = fmax(rowmax[r], fabs(v));
-                if (v != 0.0 && !in[(size_t)c * N + r] && missing++ < 5)
-                    CHECK_FAIL_("%s: dense entry (%d, %d) = %g is not in "
-                                "the pattern", label, r, c, v);
-            }
-        for (c = 0; c < N; c++)
-            for (e = (size_t)p.colptr[c]; e < (size_t)p.colptr[c + 1];
-                 e++) {
-                const int row = (int)p.rowind[e];
-                const double d = D[(size_t)c * N + row];
-                const double scale = fmax(fabs(d), rowmax[row]);
-                const double rel = scale > 0.0 ? fabs(data[e] - d) / scale
-                                               : fabs(data[e]);
-                if (fabs(data[e] - d) >
-                        1e-14 * fmax(fabs(d), rowmax[row] * 1e-2) &&
-                    off++ < 5)
-                    CHECK_FAIL_("%s: entry (%d, %d): sparse %.17g, dense "
-                                "%.17g", label, row, c, data[e], d);
-                worst = fmax(worst, rel);
-                if (row >= n && row < 2 * n && data[e] != d)
-                    inexact++;
-            }
+        sparse_compare(label, N, D, in, p.colptr, p.rowind, data, rowmax,
+                       n, 2 * n, &f);
     }
     check_count_ += 2;
     printf("%-24s N %4d, %6zu entries (%.1f%%), %d blocks (largest %d), "
            "%d colours, %d reverse rows; sparse - dense <= %.1e of the "
            "row, %ld entries of X not bit for bit\n", label, N, p.nnz,
            100.0 * (double)p.nnz / ((double)N * N), p.blocks,
-           p.largest_block, p.colors, p.reverse_rows, worst, inexact);
+           p.largest_block, p.colors, p.reverse_rows, f.worst, f.inexact);
 out:
     free(y);
     free(D);
     free(rowmax);
     free(data);
     free(in);
-    return worst;
+    return f.worst;
 }
 
 static void patterns(void)
