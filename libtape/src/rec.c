@@ -280,9 +280,18 @@ int tp_output(tp_rec *r, const char *name, tp_val v)
 
 /* ---- running a function ----------------------------------------------- */
 
+/* An evaluator's new run forgets the previous one (keeps overrides). */
+static void fresh_run(tp_rec *r)
+{
+    r->status = TP_OK;
+    r->msg[0] = '\0';
+    clear_named(r, r->params, &r->n_params);
+    clear_named(r, r->outs, &r->n_outs);
+}
+
 int tp_rec_run(tp_rec *r, const double *x, tp_func f, void *user)
 {
-    int rc;
+    int rc, attempt;
     if (!r)
         return TP_ERR_NULL;
     if (!f || (is_evaluator(r) && !x && r->n_indep > 0))
@@ -294,21 +303,23 @@ int tp_rec_run(tp_rec *r, const double *x, tp_func f, void *user)
     if (r->running)
         return tp__rec_fail(r, TP_ERR_BACKEND,
                             "tp_rec_run: called from inside a run");
-    if (is_evaluator(r)) {
-        /* A fresh run: forget the previous one (keep overrides). */
-        r->status = TP_OK;
-        r->msg[0] = '\0';
-        clear_named(r, r->params, &r->n_params);
-        clear_named(r, r->outs, &r->n_outs);
-    } else if (r->status < 0) {
+    if (is_evaluator(r))
+        fresh_run(r);
+    else if (r->status < 0)
         return r->status; /* a failed recording cannot be continued */
+    for (attempt = 0;; attempt++) {
+        rc = r->be->begin(r, x);
+        if (rc < 0)
+            return tp__rec_fail(r, rc, "tp_rec_run: %s", tp_strerror(rc));
+        r->running = true;
+        rc = f(r, user);
+        r->running = false;
+        /* once more if the backend asks (it runs the second time in a way
+         * that cannot ask again) */
+        if (!r->be->end || !r->be->end(r) || attempt > 0)
+            break;
+        fresh_run(r);
     }
-    rc = r->be->begin(r, x);
-    if (rc < 0)
-        return tp__rec_fail(r, rc, "tp_rec_run: %s", tp_strerror(rc));
-    r->running = true;
-    rc = f(r, user);
-    r->running = false;
     if (r->status < 0)
         return r->status;
     if (rc != 0)

@@ -83,6 +83,10 @@ typedef struct tp_backend {
     /* The value of an id (evaluators); NULL for the recorder. */
     double (*value)(const tp_rec *r, uint32_t id);
     void (*destroy)(tp_rec *r);
+    /* Evaluators, optional: called when the user's function has returned;
+     * non-zero asks tp_rec_run to make the run once more from the start
+     * (the tuple evaluator, when its reuse of storage did not hold). */
+    int (*end)(tp_rec *r);
 } tp_backend;
 
 typedef struct tp_named {
