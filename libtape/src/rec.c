@@ -152,21 +152,28 @@ static bool val_ok(const tp_rec *r, tp_val a)
     return a.tag != 0 && a.tag == r->tag && a.id < r->n_ids;
 }
 
+/* Why op may not be recorded now (the message, with the op's name, and
+ * the status); false if it may after all. */
+TP_COLD static bool op_refused(tp_rec *r, int op, tp_val a, tp_val b,
+                               int binary)
+{
+    char fn[24];
+    op_fn_name(op, fn, sizeof fn);
+    return !writable(r, fn) || !check_val(r, a, fn, 1) ||
+           (binary && !check_val(r, b, fn, 2));
+}
+
 tp_val tp__rec_op(tp_rec *r, int op, tp_val a, tp_val b, double c)
 {
     const int binary = tp__opinfo[op].kind == TP_KIND_BINARY;
-    char fn[24];
     if (!r)
         return invalid_val;
     /* every op of every run passes here: the common case checks without
      * formatting the op's name, which only a message needs */
-    if (r->status < 0 || r->finished || (is_evaluator(r) && !r->running) ||
-        !val_ok(r, a) || (binary && !val_ok(r, b))) {
-        op_fn_name(op, fn, sizeof fn);
-        if (!writable(r, fn) || !check_val(r, a, fn, 1) ||
-            (binary && !check_val(r, b, fn, 2)))
-            return invalid_val;
-    }
+    if ((r->status < 0 || r->finished || (is_evaluator(r) && !r->running) ||
+         !val_ok(r, a) || (binary && !val_ok(r, b))) &&
+        op_refused(r, op, a, b, binary))
+        return invalid_val;
     if (!binary)
         b.id = 0;
     return make_val(r, r->be->apply(r, op, a.id, b.id, c));

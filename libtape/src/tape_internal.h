@@ -68,6 +68,14 @@ size_t tp__mulsz(size_t a, size_t b);
 
 /* ---- recording contexts (rec.c) --------------------------------------- */
 
+/* The error path of a function called for every op: kept out of line, so
+ * that the common path saves no registers for it. */
+#if defined(__GNUC__)
+#define TP_COLD __attribute__((noinline, cold))
+#else
+#define TP_COLD
+#endif
+
 /* What a backend implements. Ids are the backend's indices of values; the
  * common layer (rec.c) has already checked every operand id. */
 typedef struct tp_backend {

@@ -140,14 +140,14 @@ static bool grow_slots(tp_tuple *U, size_t need)
     return true;
 }
 
-/* A new id, made by an op of operands u and t (NO_ID: a leaf), with a
- * derivative part or not; its contents are for the caller to fill. Its
- * slot is the plan's while this run has made the planned ops, else one
- * no id of this run has had. */
-static uint32_t new_id(tp_tuple *U, uint32_t u, uint32_t t, bool has_deriv)
+/* new_id when the plan does not hold: a slot no id of this run has had
+ * (growing the arrays as needed), and the op's operands written down for
+ * the next plan. */
+static uint32_t new_id_off_plan(tp_tuple *U, uint32_t u, uint32_t t,
+                                bool has_deriv)
 {
     const size_t k = U->count;
-    uint32_t s;
+    uint32_t s = NO_DERIV;
     if (k >= U->cap_ids) {
         if (k >= TP_MAX_OPS) {
             tp__rec_fail(&U->base, TP_ERR_TOOBIG, "tuples: too many values");
@@ -156,21 +156,34 @@ static uint32_t new_id(tp_tuple *U, uint32_t u, uint32_t t, bool has_deriv)
         if (!grow_ids(U, k + 1))
             return TP_NO_SLOT;
     }
-    if (!U->diverged && k < U->plan_len && U->opu[k] == u &&
-        U->opt[k] == t && (U->plan[k] != NO_DERIV) == has_deriv) {
-        s = U->plan[k];
-    } else {
-        U->diverged = true;
-        U->opu[k] = u;
-        U->opt[k] = t;
-        s = NO_DERIV;
-        if (has_deriv) {
-            if (U->next_fresh >= U->cap_slots &&
-                !grow_slots(U, U->next_fresh + 1))
-                return TP_NO_SLOT;
-            s = (uint32_t)U->next_fresh++;
-        }
+    U->diverged = true;
+    U->opu[k] = u;
+    U->opt[k] = t;
+    if (has_deriv) {
+        if (U->next_fresh >= U->cap_slots &&
+            !grow_slots(U, U->next_fresh + 1))
+            return TP_NO_SLOT;
+        s = (uint32_t)U->next_fresh++;
+        U->owner[s] = (uint32_t)k;
     }
+    U->slot[k] = s;
+    U->count = k + 1;
+    U->base.n_ids = (uint32_t)(k + 1);
+    return (uint32_t)k;
+}
+
+/* A new id, made by an op of operands u and t (NO_ID: a leaf), with a
+ * derivative part or not; its contents are for the caller to fill. Its
+ * slot is the plan's while this run has made the planned ops (the plan
+ * never covers more ids than the arrays hold). */
+static inline uint32_t new_id(tp_tuple *U, uint32_t u, uint32_t t,
+                              bool has_deriv)
+{
+    const size_t k = U->count;
+    uint32_t s;
+    if (U->diverged || k >= U->plan_len || U->opu[k] != u ||
+        U->opt[k] != t || ((s = U->plan[k]) != NO_DERIV) != has_deriv)
+        return new_id_off_plan(U, u, t, has_deriv);
     U->slot[k] = s;
     if (s != NO_DERIV)
         U->owner[s] = (uint32_t)k;
@@ -226,6 +239,11 @@ static uint32_t tu_constant(tp_rec *base, double c)
  * second-order terms fold into two scalars, a = fuu gu_i + fut gt_i and
  * b = ftt gt_i + fut gu_i, so that H_w(i, j) = fu H_u + ft H_t + a gu_j +
  * b gt_j. Inlined with n a constant for small n (below). */
+#if defined(__GNUC__) && !defined(__clang__)
+#define TP_UNROLL _Pragma("GCC unroll 10")
+#else
+#define TP_UNROLL
+#endif
 TP_KERNEL void propagate_n(const size_t n, double *restrict w,
                            const double *restrict u,
                            const double *restrict t, const tp_partials *d)
@@ -244,9 +262,11 @@ TP_KERNEL void propagate_n(const size_t n, double *restrict w,
                 Hw[k] = fu * Hu[k] + ft * Ht[k];
             return;
         }
+        TP_UNROLL
         for (i = 0, k = 0; i < n; i++) {
             const double a = d->fuu * gu[i] + d->fut * gt[i];
             const double b = d->ftt * gt[i] + d->fut * gu[i];
+            TP_UNROLL
             for (j = 0; j <= i; j++, k++)
                 Hw[k] = fu * Hu[k] + ft * Ht[k] + a * gu[j] + b * gt[j];
         }
@@ -263,8 +283,10 @@ TP_KERNEL void propagate_n(const size_t n, double *restrict w,
                 Hw[k] = f1 * Hv[k];
             return;
         }
+        TP_UNROLL
         for (i = 0, k = 0; i < n; i++) {
             const double a = f11 * gv[i];
+            TP_UNROLL
             for (j = 0; j <= i; j++, k++)
                 Hw[k] = f1 * Hv[k] + a * gv[j];
         }
@@ -303,26 +325,16 @@ static void propagate(size_t n, double *w, const double *u, const double *t,
         propagate_large(n, w, u, t, d);
 }
 
-/* The derivative part of operand id, NULL for a constant; flags a
- * conflict (and fails the run) when its slot holds another id. */
-static bool operand(tp_tuple *U, uint32_t id, const double **p)
+/* An operand's slot holds another id: the run is made again. */
+TP_COLD static uint32_t overwritten(tp_tuple *U, uint32_t id)
 {
-    const uint32_t s = U->slot[id];
-    if (s == NO_DERIV) {
-        *p = NULL;
-        return true;
-    }
-    if (U->owner[s] != id) {
-        U->conflict = true;
-        tp__rec_fail(&U->base, TP_ERR_BACKEND,
-                     "tuples: value %u was overwritten after this run took "
-                     "another path than the last one (the run is repeated "
-                     "without reusing storage)",
-                     (unsigned)id);
-        return false;
-    }
-    *p = deriv(U, s);
-    return true;
+    U->conflict = true;
+    tp__rec_fail(&U->base, TP_ERR_BACKEND,
+                 "tuples: value %u was overwritten after this run took "
+                 "another path than the last one (the run is repeated "
+                 "without reusing storage)",
+                 (unsigned)id);
+    return TP_NO_SLOT;
 }
 
 static uint32_t tu_apply(tp_rec *base, int op, uint32_t u, uint32_t t,
@@ -330,16 +342,17 @@ static uint32_t tu_apply(tp_rec *base, int op, uint32_t u, uint32_t t,
 {
     tp_tuple *U = (tp_tuple *)base;
     const bool binary = tp__opinfo[op].kind == TP_KIND_BINARY;
-    const double *du, *dt = NULL;
-    double uv = U->val[u], tv = binary ? U->val[t] : 0.0, aux, w;
-    bool cu, ct;
+    const uint32_t su = U->slot[u], st = binary ? U->slot[t] : NO_DERIV;
+    const bool cu = su == NO_DERIV, ct = st == NO_DERIV;
+    const double uv = U->val[u], tv = binary ? U->val[t] : 0.0;
+    double aux, w;
     tp_partials d;
     uint32_t id;
 
-    if (!operand(U, u, &du) || (binary && !operand(U, t, &dt)))
-        return TP_NO_SLOT;
-    cu = !du;
-    ct = !dt;
+    if (!cu && U->owner[su] != u)
+        return overwritten(U, u);
+    if (!ct && U->owner[st] != t)
+        return overwritten(U, t);
     /* identities: the operand's tuple is the result (tuples never change
      * while their ids are alive), which spares a pass over it; sums that
      * start from a constant 0 are how models accumulate terms */
@@ -363,8 +376,8 @@ static uint32_t tu_apply(tp_rec *base, int op, uint32_t u, uint32_t t,
         return id;
     tp__op_partials(op, uv, tv, c, w, aux, &d);
     /* the pool may have moved: take operand pointers after new_id */
-    propagate(U->n, deriv(U, U->slot[id]), cu ? NULL : deriv(U, U->slot[u]),
-              ct ? NULL : deriv(U, U->slot[t]), &d);
+    propagate(U->n, deriv(U, U->slot[id]), cu ? NULL : deriv(U, su),
+              ct ? NULL : deriv(U, st), &d);
     return id;
 }
 
