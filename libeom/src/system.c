@@ -50,9 +50,9 @@ typedef struct rec_arg {
 } rec_arg;
 
 /* The body of a recording. The tuple evaluator may run it twice in one
- * tp_rec_run (tp_tuple_new): each time starts with a clean context, and a
- * model file's definitions are made again (their handles are the first
- * time's). */
+ * tp_rec_run (tp_tuple_new): each time starts with a clean context, and
+ * the parameters and a model file's definitions are declared again (their
+ * handles are the first time's). */
 static int run_body(tp_rec *r, void *user)
 {
     rec_arg *a = user;
@@ -61,6 +61,7 @@ static int run_body(tp_rec *r, void *user)
     a->c->msg[0] = '\0';
     a->c->read_time = false;
     a->c->lang_run = 0;
+    memset(a->c->pv, 0, sizeof a->c->pv);
     return a->body(a->c);
 }
 

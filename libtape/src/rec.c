@@ -44,29 +44,36 @@ int tp__rec_init(tp_rec *r, const tp_backend *be, int n_indep,
     return TP_OK;
 }
 
-static void free_named(tp_rec *r, tp_named **v, size_t *n, size_t *cap)
+/* A list of names: entries below *n are this run's; the names of entries
+ * below *kept (NULL: none) are allocated still, kept from earlier runs of
+ * an evaluator, which declare the same names run after run. */
+static void free_named(tp_rec *r, tp_named **v, size_t *n, size_t *cap,
+                       size_t *kept)
 {
-    size_t i;
-    for (i = 0; i < *n; i++)
+    size_t i, m = kept && *kept > *n ? *kept : *n;
+    for (i = 0; i < m; i++)
         tp__strfree(&r->al, (*v)[i].name);
     tp__free(&r->al, *v, *cap * sizeof **v);
     *v = NULL;
     *n = *cap = 0;
+    if (kept)
+        *kept = 0;
 }
 
-static void clear_named(tp_rec *r, tp_named *v, size_t *n)
+/* Empty the list for a new run, keeping its names for the next. */
+static void clear_named(size_t *n, size_t *kept)
 {
-    size_t i;
-    for (i = 0; i < *n; i++)
-        tp__strfree(&r->al, v[i].name);
+    if (*n > *kept)
+        *kept = *n;
     *n = 0;
 }
 
 void tp__rec_release(tp_rec *r)
 {
-    free_named(r, &r->params, &r->n_params, &r->cap_params);
-    free_named(r, &r->outs, &r->n_outs, &r->cap_outs);
-    free_named(r, &r->over, &r->n_over, &r->cap_over);
+    free_named(r, &r->params, &r->n_params, &r->cap_params,
+               &r->kept_params);
+    free_named(r, &r->outs, &r->n_outs, &r->cap_outs, &r->kept_outs);
+    free_named(r, &r->over, &r->n_over, &r->cap_over, NULL);
 }
 
 int tp__rec_fail(tp_rec *r, int status, const char *fmt, ...)
@@ -219,17 +226,26 @@ static tp_named *find_named(tp_named *v, size_t n, const char *name)
     return NULL;
 }
 
-/* Append (name, value, id) to a list owned by r; false on failure. */
+/* Append (name, value, id) to a list owned by r, reusing the name kept
+ * at that place if it is the same; false on failure. */
 static bool push_named(tp_rec *r, tp_named **v, size_t *n, size_t *cap,
-                       const char *name, double value, uint32_t id)
+                       size_t *kept, const char *name, double value,
+                       uint32_t id)
 {
+    const bool reuse = kept && *n < *kept;
     char *copy;
     if (tp__grow(&r->al, (void **)v, sizeof **v, cap, *n + 1) != 0)
         return false;
-    copy = tp__strdup(&r->al, name);
-    if (!copy)
-        return false;
-    (*v)[*n].name = copy;
+    if (!reuse || strcmp((*v)[*n].name, name) != 0) {
+        copy = tp__strdup(&r->al, name);
+        if (!copy)
+            return false;
+        if (reuse)
+            tp__strfree(&r->al, (*v)[*n].name);
+        else if (kept)
+            *kept = *n + 1;
+        (*v)[*n].name = copy;
+    }
     (*v)[*n].value = value;
     (*v)[*n].id = id;
     (*n)++;
@@ -262,8 +278,8 @@ tp_val tp_param(tp_rec *r, const char *name, double dflt)
     id = r->be->param(r, (int)r->n_params, value);
     if (id == TP_NO_SLOT)
         return invalid_val;
-    if (!push_named(r, &r->params, &r->n_params, &r->cap_params, name, dflt,
-                    id)) {
+    if (!push_named(r, &r->params, &r->n_params, &r->cap_params,
+                    &r->kept_params, name, dflt, id)) {
         tp__rec_fail(r, TP_ERR_NOMEM, "tp_param: out of memory");
         return invalid_val;
     }
@@ -280,7 +296,8 @@ int tp_output(tp_rec *r, const char *name, tp_val v)
     if (find_named(r->outs, r->n_outs, name))
         return tp__rec_fail(r, TP_ERR_NAME,
                             "tp_output: output '%s' declared twice", name);
-    if (!push_named(r, &r->outs, &r->n_outs, &r->cap_outs, name, 0.0, v.id))
+    if (!push_named(r, &r->outs, &r->n_outs, &r->cap_outs, &r->kept_outs,
+                    name, 0.0, v.id))
         return tp__rec_fail(r, TP_ERR_NOMEM, "tp_output: out of memory");
     return TP_OK;
 }
@@ -292,8 +309,8 @@ static void fresh_run(tp_rec *r)
 {
     r->status = TP_OK;
     r->msg[0] = '\0';
-    clear_named(r, r->params, &r->n_params);
-    clear_named(r, r->outs, &r->n_outs);
+    clear_named(&r->n_params, &r->kept_params);
+    clear_named(&r->n_outs, &r->kept_outs);
 }
 
 int tp_rec_run(tp_rec *r, const double *x, tp_func f, void *user)
@@ -349,7 +366,8 @@ int tp_rec_set_param(tp_rec *r, const char *name, double value)
         o->value = value;
         return TP_OK;
     }
-    return push_named(r, &r->over, &r->n_over, &r->cap_over, name, value, 0)
+    return push_named(r, &r->over, &r->n_over, &r->cap_over, NULL, name,
+                      value, 0)
                ? TP_OK
                : TP_ERR_NOMEM;
 }

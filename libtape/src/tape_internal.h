@@ -118,6 +118,8 @@ struct tp_rec {
     size_t n_params, cap_params;
     tp_named *outs; /* outputs, in declaration order */
     size_t n_outs, cap_outs;
+    /* evaluators: entries whose names are kept from earlier runs */
+    size_t kept_params, kept_outs;
     tp_named *over; /* evaluators: parameter overrides by name */
     size_t n_over, cap_over;
 };
