@@ -249,19 +249,20 @@ TP_KERNEL void propagate_n(const size_t n, double *restrict w,
                            const double *restrict t, const tp_partials *d)
 {
     double *restrict gw = w, *restrict Hw = w + n;
-    const size_t nh = n * (n + 1) / 2;
+    const size_t nd = n + n * (n + 1) / 2;
     size_t i, j, k;
 
     if (u && t) {
         const double *gu = u, *gt = t, *Hu = u + n, *Ht = t + n;
         const double fu = d->fu, ft = d->ft;
-        for (i = 0; i < n; i++)
-            gw[i] = fu * gu[i] + ft * gt[i];
         if (d->fuu == 0.0 && d->ftt == 0.0 && d->fut == 0.0) {
-            for (k = 0; k < nh; k++)
-                Hw[k] = fu * Hu[k] + ft * Ht[k];
+            /* linear: gradient and Hessian in one pass */
+            for (k = 0; k < nd; k++)
+                w[k] = fu * u[k] + ft * t[k];
             return;
         }
+        for (i = 0; i < n; i++)
+            gw[i] = fu * gu[i] + ft * gt[i];
         TP_UNROLL
         for (i = 0, k = 0; i < n; i++) {
             const double a = d->fuu * gu[i] + d->fut * gt[i];
@@ -276,13 +277,13 @@ TP_KERNEL void propagate_n(const size_t n, double *restrict w,
         /* one operand carries derivatives: v, with f1 and f11 its own */
         const double *v = u ? u : t, *gv = v, *Hv = v + n;
         const double f1 = u ? d->fu : d->ft, f11 = u ? d->fuu : d->ftt;
-        for (i = 0; i < n; i++)
-            gw[i] = f1 * gv[i];
         if (f11 == 0.0) {
-            for (k = 0; k < nh; k++)
-                Hw[k] = f1 * Hv[k];
+            for (k = 0; k < nd; k++)
+                w[k] = f1 * v[k];
             return;
         }
+        for (i = 0; i < n; i++)
+            gw[i] = f1 * gv[i];
         TP_UNROLL
         for (i = 0, k = 0; i < n; i++) {
             const double a = f11 * gv[i];
@@ -297,6 +298,7 @@ TP_KERNEL void propagate_n(const size_t n, double *restrict w,
  * in loop control of rows of one to ten entries: with n a constant the
  * compiler unrolls them. Larger n use the AVX2 clone where there is one
  * (no FMA: every version rounds alike). */
+TP_VECTOR_CLONES
 static void propagate_small(size_t n, double *w, const double *u,
                             const double *t, const tp_partials *d)
 {
