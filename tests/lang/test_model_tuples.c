@@ -14,26 +14,18 @@
 
 /* The same definitions and energies up to V; B adds terms that read s
  * and x after A's last use of them. */
-static const char *model_a =
-    "units off\n"
-    "param m = 1.5\n"
-    "param k = 3\n"
-    "coord x = 0.1\n"
-    "coord y = 0.2\n"
-    "s = sin(x)\n"
-    "c = cos(y)\n"
+#define COMMON                                                             \
+    "units off\n"                                                          \
+    "param m = 1.5\n"                                                      \
+    "param k = 3\n"                                                        \
+    "coord x = 0.1\n"                                                      \
+    "coord y = 0.2\n"                                                      \
+    "s = sin(x)\n"                                                         \
+    "c = cos(y)\n"                                                         \
     "T = 1/2*m*(x_dot^2 + y_dot^2) + s*c*x_dot*y_dot\n"
-    "V = 1/2*k*(x^2 + y^2) + s*y\n";
+static const char *model_a = COMMON "V = 1/2*k*(x^2 + y^2) + s*y\n";
 static const char *model_b =
-    "units off\n"
-    "param m = 1.5\n"
-    "param k = 3\n"
-    "coord x = 0.1\n"
-    "coord y = 0.2\n"
-    "s = sin(x)\n"
-    "c = cos(y)\n"
-    "T = 1/2*m*(x_dot^2 + y_dot^2) + s*c*x_dot*y_dot\n"
-    "V = 1/2*k*(x^2 + y^2) + s*y + s*s*x*c\n";
+    COMMON "V = 1/2*k*(x^2 + y^2) + s*y + s*s*x*c\n";
 
 static void compare(eom_model *m, tp_rec *R, const double *x,
                     const char *what)
