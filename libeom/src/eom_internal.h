@@ -98,6 +98,8 @@ typedef enum eom_time_as {
     EOM_TIME_PARAM  /* the tape parameter EOM_TIME_NAME */
 } eom_time_as;
 
+#define EOM_CTX_PARAMS 64
+
 struct eom_ctx {
     tp_rec *r;
     const eom_model *m;
@@ -111,6 +113,11 @@ struct eom_ctx {
     unsigned lang_run; /* 0 when the recording starts; the model-file
                           language marks it to share its definitions
                           among the callbacks of one recording */
+    /* the handles of the first EOM_CTX_PARAMS parameters in this
+     * recording (tag 0: not yet asked for): elements ask for the same
+     * parameter at every link, and declaring it again means a search of
+     * the recording's parameters by name */
+    tp_val pv[EOM_CTX_PARAMS];
 };
 
 /* ---- system ----------------------------------------------------------- */

@@ -431,6 +431,18 @@ tp_val eom_time(eom_ctx *c)
     }
 }
 
+/* Parameter k's handle in this recording, declared at its first use. */
+static tp_val param_handle(eom_ctx *c, int k)
+{
+    tp_val v;
+    if (k < EOM_CTX_PARAMS && c->pv[k].tag != 0)
+        return c->pv[k];
+    v = tp_param(c->r, c->m->params[k].name, c->m->params[k].v0);
+    if (k < EOM_CTX_PARAMS)
+        c->pv[k] = v;
+    return v;
+}
+
 tp_val eom_param_at(eom_ctx *c, int k)
 {
     if (!c)
@@ -438,7 +450,7 @@ tp_val eom_param_at(eom_ctx *c, int k)
     if (k < 0 || k >= c->m->n_params)
         return ctx_bad(c, "eom_param_at: no parameter of index %d (the "
                        "model has %d)", k, c->m->n_params);
-    return tp_param(c->r, c->m->params[k].name, c->m->params[k].v0);
+    return param_handle(c, k);
 }
 
 tp_val eom_param(eom_ctx *c, const char *name)
@@ -450,5 +462,5 @@ tp_val eom_param(eom_ctx *c, const char *name)
     if (k < 0)
         return ctx_bad(c, "eom_param: no parameter named '%s'",
                        name ? name : "(null)");
-    return tp_param(c->r, name, c->m->params[k].v0);
+    return param_handle(c, k);
 }

@@ -49,10 +49,19 @@ typedef struct rec_arg {
     body_fn body;
 } rec_arg;
 
+/* The body of a recording. The tuple evaluator may run it twice in one
+ * tp_rec_run (tp_tuple_new): each time starts with a clean context, and
+ * the parameters and a model file's definitions are declared again (their
+ * handles are the first time's). */
 static int run_body(tp_rec *r, void *user)
 {
     rec_arg *a = user;
     (void)r;
+    a->c->status = EOM_OK;
+    a->c->msg[0] = '\0';
+    a->c->read_time = false;
+    a->c->lang_run = 0;
+    memset(a->c->pv, 0, sizeof a->c->pv);
     return a->body(a->c);
 }
 

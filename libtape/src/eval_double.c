@@ -75,7 +75,7 @@ static void ev_destroy(tp_rec *base)
 
 static const tp_backend evaluator_backend = {
     "double evaluator", ev_begin, ev_param, ev_constant, ev_apply, ev_value,
-    ev_destroy,
+    ev_destroy, NULL,
 };
 
 int tp_evaluator_new(tp_rec **out, int n_indep, const tp_allocator *al)

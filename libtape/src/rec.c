@@ -44,29 +44,36 @@ int tp__rec_init(tp_rec *r, const tp_backend *be, int n_indep,
     return TP_OK;
 }
 
-static void free_named(tp_rec *r, tp_named **v, size_t *n, size_t *cap)
+/* A list of names: entries below *n are this run's; the names of entries
+ * below *kept (NULL: none) are allocated still, kept from earlier runs of
+ * an evaluator, which declare the same names run after run. */
+static void free_named(tp_rec *r, tp_named **v, size_t *n, size_t *cap,
+                       size_t *kept)
 {
-    size_t i;
-    for (i = 0; i < *n; i++)
+    size_t i, m = kept && *kept > *n ? *kept : *n;
+    for (i = 0; i < m; i++)
         tp__strfree(&r->al, (*v)[i].name);
     tp__free(&r->al, *v, *cap * sizeof **v);
     *v = NULL;
     *n = *cap = 0;
+    if (kept)
+        *kept = 0;
 }
 
-static void clear_named(tp_rec *r, tp_named *v, size_t *n)
+/* Empty the list for a new run, keeping its names for the next. */
+static void clear_named(size_t *n, size_t *kept)
 {
-    size_t i;
-    for (i = 0; i < *n; i++)
-        tp__strfree(&r->al, v[i].name);
+    if (*n > *kept)
+        *kept = *n;
     *n = 0;
 }
 
 void tp__rec_release(tp_rec *r)
 {
-    free_named(r, &r->params, &r->n_params, &r->cap_params);
-    free_named(r, &r->outs, &r->n_outs, &r->cap_outs);
-    free_named(r, &r->over, &r->n_over, &r->cap_over);
+    free_named(r, &r->params, &r->n_params, &r->cap_params,
+               &r->kept_params);
+    free_named(r, &r->outs, &r->n_outs, &r->cap_outs, &r->kept_outs);
+    free_named(r, &r->over, &r->n_over, &r->cap_over, NULL);
 }
 
 int tp__rec_fail(tp_rec *r, int status, const char *fmt, ...)
@@ -152,21 +159,28 @@ static bool val_ok(const tp_rec *r, tp_val a)
     return a.tag != 0 && a.tag == r->tag && a.id < r->n_ids;
 }
 
+/* Why op may not be recorded now (the message, with the op's name, and
+ * the status); false if it may after all. */
+TP_COLD static bool op_refused(tp_rec *r, int op, tp_val a, tp_val b,
+                               int binary)
+{
+    char fn[24];
+    op_fn_name(op, fn, sizeof fn);
+    return !writable(r, fn) || !check_val(r, a, fn, 1) ||
+           (binary && !check_val(r, b, fn, 2));
+}
+
 tp_val tp__rec_op(tp_rec *r, int op, tp_val a, tp_val b, double c)
 {
     const int binary = tp__opinfo[op].kind == TP_KIND_BINARY;
-    char fn[24];
     if (!r)
         return invalid_val;
     /* every op of every run passes here: the common case checks without
      * formatting the op's name, which only a message needs */
-    if (r->status < 0 || r->finished || (is_evaluator(r) && !r->running) ||
-        !val_ok(r, a) || (binary && !val_ok(r, b))) {
-        op_fn_name(op, fn, sizeof fn);
-        if (!writable(r, fn) || !check_val(r, a, fn, 1) ||
-            (binary && !check_val(r, b, fn, 2)))
-            return invalid_val;
-    }
+    if ((r->status < 0 || r->finished || (is_evaluator(r) && !r->running) ||
+         !val_ok(r, a) || (binary && !val_ok(r, b))) &&
+        op_refused(r, op, a, b, binary))
+        return invalid_val;
     if (!binary)
         b.id = 0;
     return make_val(r, r->be->apply(r, op, a.id, b.id, c));
@@ -212,17 +226,26 @@ static tp_named *find_named(tp_named *v, size_t n, const char *name)
     return NULL;
 }
 
-/* Append (name, value, id) to a list owned by r; false on failure. */
+/* Append (name, value, id) to a list owned by r, reusing the name kept
+ * at that place if it is the same; false on failure. */
 static bool push_named(tp_rec *r, tp_named **v, size_t *n, size_t *cap,
-                       const char *name, double value, uint32_t id)
+                       size_t *kept, const char *name, double value,
+                       uint32_t id)
 {
+    const bool reuse = kept && *n < *kept;
     char *copy;
     if (tp__grow(&r->al, (void **)v, sizeof **v, cap, *n + 1) != 0)
         return false;
-    copy = tp__strdup(&r->al, name);
-    if (!copy)
-        return false;
-    (*v)[*n].name = copy;
+    if (!reuse || strcmp((*v)[*n].name, name) != 0) {
+        copy = tp__strdup(&r->al, name);
+        if (!copy)
+            return false;
+        if (reuse)
+            tp__strfree(&r->al, (*v)[*n].name);
+        else if (kept)
+            *kept = *n + 1;
+        (*v)[*n].name = copy;
+    }
     (*v)[*n].value = value;
     (*v)[*n].id = id;
     (*n)++;
@@ -255,8 +278,8 @@ tp_val tp_param(tp_rec *r, const char *name, double dflt)
     id = r->be->param(r, (int)r->n_params, value);
     if (id == TP_NO_SLOT)
         return invalid_val;
-    if (!push_named(r, &r->params, &r->n_params, &r->cap_params, name, dflt,
-                    id)) {
+    if (!push_named(r, &r->params, &r->n_params, &r->cap_params,
+                    &r->kept_params, name, dflt, id)) {
         tp__rec_fail(r, TP_ERR_NOMEM, "tp_param: out of memory");
         return invalid_val;
     }
@@ -273,16 +296,26 @@ int tp_output(tp_rec *r, const char *name, tp_val v)
     if (find_named(r->outs, r->n_outs, name))
         return tp__rec_fail(r, TP_ERR_NAME,
                             "tp_output: output '%s' declared twice", name);
-    if (!push_named(r, &r->outs, &r->n_outs, &r->cap_outs, name, 0.0, v.id))
+    if (!push_named(r, &r->outs, &r->n_outs, &r->cap_outs, &r->kept_outs,
+                    name, 0.0, v.id))
         return tp__rec_fail(r, TP_ERR_NOMEM, "tp_output: out of memory");
     return TP_OK;
 }
 
 /* ---- running a function ----------------------------------------------- */
 
+/* An evaluator's new run forgets the previous one (keeps overrides). */
+static void fresh_run(tp_rec *r)
+{
+    r->status = TP_OK;
+    r->msg[0] = '\0';
+    clear_named(&r->n_params, &r->kept_params);
+    clear_named(&r->n_outs, &r->kept_outs);
+}
+
 int tp_rec_run(tp_rec *r, const double *x, tp_func f, void *user)
 {
-    int rc;
+    int rc, attempt;
     if (!r)
         return TP_ERR_NULL;
     if (!f || (is_evaluator(r) && !x && r->n_indep > 0))
@@ -294,21 +327,23 @@ int tp_rec_run(tp_rec *r, const double *x, tp_func f, void *user)
     if (r->running)
         return tp__rec_fail(r, TP_ERR_BACKEND,
                             "tp_rec_run: called from inside a run");
-    if (is_evaluator(r)) {
-        /* A fresh run: forget the previous one (keep overrides). */
-        r->status = TP_OK;
-        r->msg[0] = '\0';
-        clear_named(r, r->params, &r->n_params);
-        clear_named(r, r->outs, &r->n_outs);
-    } else if (r->status < 0) {
+    if (is_evaluator(r))
+        fresh_run(r);
+    else if (r->status < 0)
         return r->status; /* a failed recording cannot be continued */
+    for (attempt = 0;; attempt++) {
+        rc = r->be->begin(r, x);
+        if (rc < 0)
+            return tp__rec_fail(r, rc, "tp_rec_run: %s", tp_strerror(rc));
+        r->running = true;
+        rc = f(r, user);
+        r->running = false;
+        /* once more if the backend asks (it runs the second time in a way
+         * that cannot ask again) */
+        if (!r->be->end || !r->be->end(r) || attempt > 0)
+            break;
+        fresh_run(r);
     }
-    rc = r->be->begin(r, x);
-    if (rc < 0)
-        return tp__rec_fail(r, rc, "tp_rec_run: %s", tp_strerror(rc));
-    r->running = true;
-    rc = f(r, user);
-    r->running = false;
     if (r->status < 0)
         return r->status;
     if (rc != 0)
@@ -331,7 +366,8 @@ int tp_rec_set_param(tp_rec *r, const char *name, double value)
         o->value = value;
         return TP_OK;
     }
-    return push_named(r, &r->over, &r->n_over, &r->cap_over, name, value, 0)
+    return push_named(r, &r->over, &r->n_over, &r->cap_over, NULL, name,
+                      value, 0)
                ? TP_OK
                : TP_ERR_NOMEM;
 }

@@ -385,7 +385,7 @@ static void rec_destroy(tp_rec *base)
 
 static const tp_backend recorder_backend = {
     "recorder", rec_begin, rec_param, rec_constant, rec_apply, NULL,
-    rec_destroy,
+    rec_destroy, NULL,
 };
 
 int tp_recorder_new(tp_rec **out, int n_indep, const unsigned char *group,

@@ -68,6 +68,14 @@ size_t tp__mulsz(size_t a, size_t b);
 
 /* ---- recording contexts (rec.c) --------------------------------------- */
 
+/* The error path of a function called for every op: kept out of line, so
+ * that the common path saves no registers for it. */
+#if defined(__GNUC__)
+#define TP_COLD __attribute__((noinline, cold))
+#else
+#define TP_COLD
+#endif
+
 /* What a backend implements. Ids are the backend's indices of values; the
  * common layer (rec.c) has already checked every operand id. */
 typedef struct tp_backend {
@@ -83,6 +91,10 @@ typedef struct tp_backend {
     /* The value of an id (evaluators); NULL for the recorder. */
     double (*value)(const tp_rec *r, uint32_t id);
     void (*destroy)(tp_rec *r);
+    /* Evaluators, optional: called when the user's function has returned;
+     * non-zero asks tp_rec_run to make the run once more from the start
+     * (the tuple evaluator, when its reuse of storage did not hold). */
+    int (*end)(tp_rec *r);
 } tp_backend;
 
 typedef struct tp_named {
@@ -106,6 +118,8 @@ struct tp_rec {
     size_t n_params, cap_params;
     tp_named *outs; /* outputs, in declaration order */
     size_t n_outs, cap_outs;
+    /* evaluators: entries whose names are kept from earlier runs */
+    size_t kept_params, kept_outs;
     tp_named *over; /* evaluators: parameter overrides by name */
     size_t n_over, cap_over;
 };

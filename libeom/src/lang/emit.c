@@ -64,6 +64,10 @@ void lang_begin(lang_inst *in, eom_ctx *ctx, int role, const char *what)
      * probes of one tape): its definitions are on this tape already */
     if (ctx && ctx->lang_run != 0 && ctx->lang_run == in->epoch)
         return;
+    /* a new recording: an earlier one's failure is not this one's (the
+     * tuple evaluator repeats a run that failed for want of storage) */
+    if (ctx)
+        in->failed = 0;
     if (++in->epoch == 0) { /* wrapped: forget everything */
         unsigned k;
         for (k = 0; in->memo && k <= in->memo_mask; k++)

@@ -124,7 +124,13 @@ TP_API int tp_evaluator_new(tp_rec **out, int n_indep,
                             const tp_allocator *al);
 
 /* Create the embedded-tuple evaluator for n_indep independents: every value
- * carries its gradient and packed Hessian over all n_indep independents. */
+ * carries its gradient and packed Hessian over all n_indep independents.
+ * From one run to the next it reuses the storage of values the previous
+ * run no longer read, so a function that records the same operations at
+ * every run needs only the tuples alive at once. A run whose function
+ * takes another path and reads a value that storage was given to is made
+ * again from the start, without reuse: f is then called twice in that
+ * tp_rec_run (its results are those of a single run). */
 TP_API int tp_tuple_new(tp_rec **out, int n_indep, const tp_allocator *al);
 
 /* Free any context; *r is set to NULL. Handles it made become invalid. */
@@ -133,7 +139,8 @@ TP_API void tp_rec_free(tp_rec **r);
 /* Run f once on r. For the recorder, x may be NULL (values are not needed
  * to record) and the run appends to the recording. For the evaluators, x
  * holds n_indep values; each run starts afresh (outputs and intermediate
- * values of the previous run are discarded, buffers are kept). Returns the
+ * values of the previous run are discarded, buffers are kept; the tuple
+ * evaluator may call f a second time, see tp_tuple_new). Returns the
  * first error of the run, or TP_ERR_USER if f returned non-zero. */
 TP_API int tp_rec_run(tp_rec *r, const double *x, tp_func f, void *user);
 
