@@ -162,7 +162,8 @@ struct eom_system {
 
     /* results of the last evaluation (rhs.c) */
     double *M;     /* n x n mass matrix */
-    double *Mf;    /* n x n Cholesky factor (lower) */
+    double *Mf;    /* n x n Cholesky factor (its lower triangle; the
+                      upper one is never read) */
     bool mf_valid; /* Mf holds the factor of a mass matrix */
     double *g;     /* n  dL/dq */
     double *h;     /* n  (d2L/dqd dq) qd */
