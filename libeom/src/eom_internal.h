@@ -23,6 +23,7 @@
 #ifndef EOM_INTERNAL_H
 #define EOM_INTERNAL_H
 
+#include <math.h>
 #include <stdatomic.h>
 #include <stdbool.h>
 #include <stddef.h>
@@ -417,8 +418,17 @@ int eom__fail(eom_system *s, int status, const char *fmt, ...)
     ;
 /* Map a libtape status to libeom's, with a message naming what. */
 int eom__tape_status(eom_system *s, int tp_status, const char *what);
-/* Every value finite? */
-bool eom__finite(const double *a, size_t n);
+/* Every value finite? Inline: every evaluation checks its state and its
+ * accelerations, a few values each, where a call cost as much as the
+ * test. */
+static inline bool eom__finite(const double *a, size_t n)
+{
+    size_t i;
+    for (i = 0; i < n; i++)
+        if (!isfinite(a[i]))
+            return false;
+    return true;
+}
 
 /* ---- LAPACK (Fortran interface; hidden string lengths last) ----------- */
 

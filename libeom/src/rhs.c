@@ -412,8 +412,13 @@ int eom__nonconservative(eom_system *s, double t, const double *x)
 {
     const int n = s->n;
     int i, st, rc;
-    memset(s->Qv, 0, (size_t)n * sizeof(double));
     s->power = 0.0;
+    /* neither: Qv stays as alloc_arrays made it, all +0, and its power
+     * qd . Qv, a sum of signed zeros from +0, is +0 at any finite qd (the
+     * callers have checked x) */
+    if (!s->has_R && !s->has_Q)
+        return EOM_OK;
+    memset(s->Qv, 0, (size_t)n * sizeof(double));
     if (s->has_R) {
         st = tp_gradient(s->tR.ws, eom__tape_input(&s->tR, x, t), 0, NULL,
                          s->gR);
@@ -450,16 +455,15 @@ int eom__evaluate(eom_system *s, double t, const double *x)
                        &s->dLdt, s->M, s->h);
     if ((rc = eom__tape_status(s, st, "the Lagrangian or a derivative")))
         return rc;
-    for (i = 0; i < n; i++)
-        s->F[i] = s->g[i] - s->h[i];
     if ((rc = eom__nonconservative(s, t, x)) != EOM_OK)
         return rc;
+    /* F = (g - h) + Qv, rounded as two steps were (Qv is +0 without
+     * forces: -0 becomes +0 as before), and qdd = F, solved in place */
     for (i = 0; i < n; i++)
-        s->F[i] += s->Qv[i];
+        s->qdd[i] = s->F[i] = s->g[i] - s->h[i] + s->Qv[i];
     s->power_t = -s->dLdt;
     if ((rc = eom__factor_mass(s)) != EOM_OK)
         return rc;
-    memcpy(s->qdd, s->F, (size_t)n * sizeof(double));
     if ((rc = eom__mass_solve(s, s->qdd, 1)) != EOM_OK)
         return rc;
     if (m > 0) {
