@@ -85,6 +85,13 @@ static int check_out(tp_ws *ws, int out, const char *fn)
     return TP_OK;
 }
 
+/* end_of for unit_weights(ws, out), without the scan of the outputs. */
+static uint32_t end_of_unit(const tp_tape *T, int out)
+{
+    const uint32_t end = T->n_indep + T->n_param;
+    return T->out_slot[out] + 1 > end ? T->out_slot[out] + 1 : end;
+}
+
 /* Output weights selecting output out, in the workspace's scratch. */
 static const double *unit_weights(tp_ws *ws, int out)
 {
@@ -195,8 +202,8 @@ int tp_gradient(tp_ws *ws, const double *x, int out, double *y, double *g)
     if (!g)
         return fail(ws, TP_ERR_NULL, "tp_gradient: g is NULL");
     w = unit_weights(ws, out);
-    tp__fwd0(ws, x, end_of(ws->t, w));
-    tp__rev1(ws, w, end_of(ws->t, w), g);
+    tp__fwd0(ws, x, end_of_unit(ws->t, out));
+    tp__rev1(ws, w, end_of_unit(ws->t, out), g);
     if (y)
         *y = ws->v[ws->t->out_slot[out]];
     check(&st, y, 1);
@@ -404,7 +411,7 @@ int tp_lagrange_t(tp_ws *ws, const double *x, int out, double *L,
         ok &= store_block(ws->hs, n, 0, n, timed, qd, M, h);
     } else {
         const double *w = unit_weights(ws, out);
-        const uint32_t end = end_of(T, w);
+        const uint32_t end = end_of_unit(T, out);
         if (n == 0 || (!M && !h)) {
             tp__fwd0(ws, x, end);
             tp__rev1(ws, w, end, ws->g);

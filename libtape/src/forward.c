@@ -25,14 +25,17 @@ unsigned tp__seed_mask(const tp_tape *T, int p, const double *S, size_t lds,
     unsigned mask = 0;
     uint32_t i;
     int k;
+    if (!S) {
+        /* unit directions: only the independents first .. first+p-1 */
+        for (k = first < 0 ? 0 : first; k < first + p && k < (int)T->n_indep;
+             k++)
+            mask |= 1u << T->group[k];
+        return mask;
+    }
     for (i = 0; i < T->n_indep; i++) {
         bool seeded = false;
-        if (S) {
-            for (k = 0; k < p && !seeded; k++)
-                seeded = S[i * lds + (size_t)k] != 0.0;
-        } else {
-            seeded = (int)i >= first && (int)i < first + p;
-        }
+        for (k = 0; k < p && !seeded; k++)
+            seeded = S[i * lds + (size_t)k] != 0.0;
         if (seeded)
             mask |= 1u << T->group[i];
     }
