@@ -350,28 +350,59 @@ static inline bool store_block_at(const double *H, int n, int c0, int pc,
     return ok;
 }
 
-/* The whole block of a small model (n <= 4, one chunk) with n a
- * constant, so that the loops above unroll: at n = 2 the general loops
- * took 160 instructions (callgrind) for 4 copies and 2 dot products.
- * The arithmetic is the same, in the same order. */
+/* The whole block of a small model (n <= 6, one chunk) with n the
+ * constant k, so that the loops above unroll: at n = 2 the general loops
+ * took 160 instructions (callgrind) for 4 copies and 2 dot products. The
+ * arithmetic is the same, in the same order. One function per size,
+ * never inlined, so that each saves only the registers it uses. */
+#if defined(__GNUC__)
+#define TP_NOINLINE __attribute__((noinline))
+#else
+#define TP_NOINLINE
+#endif
+#define TP_STORE_BLOCK_OF_SIZE(k)                                           \
+    TP_NOINLINE static bool store_block_##k(const double *H, bool timed,   \
+                                            const double *qd, double *M,   \
+                                            double *h)                      \
+    {                                                                       \
+        return store_block_at(H, k, 0, k, timed, qd, M, h);                 \
+    }
+TP_STORE_BLOCK_OF_SIZE(1)
+TP_STORE_BLOCK_OF_SIZE(2)
+TP_STORE_BLOCK_OF_SIZE(3)
+TP_STORE_BLOCK_OF_SIZE(4)
+TP_STORE_BLOCK_OF_SIZE(5)
+TP_STORE_BLOCK_OF_SIZE(6)
+
+TP_NOINLINE static bool store_block_n(const double *H, int n, int c0, int pc,
+                                      bool timed, const double *qd, double *M,
+                                      double *h)
+{
+    return store_block_at(H, n, c0, pc, timed, qd, M, h);
+}
+
 static bool store_block(const double *H, int n, int c0, int pc, bool timed,
                         const double *qd, double *M, double *h)
 {
     if (pc == n) {
         switch (n) {
         case 1:
-            return store_block_at(H, 1, 0, 1, timed, qd, M, h);
+            return store_block_1(H, timed, qd, M, h);
         case 2:
-            return store_block_at(H, 2, 0, 2, timed, qd, M, h);
+            return store_block_2(H, timed, qd, M, h);
         case 3:
-            return store_block_at(H, 3, 0, 3, timed, qd, M, h);
+            return store_block_3(H, timed, qd, M, h);
         case 4:
-            return store_block_at(H, 4, 0, 4, timed, qd, M, h);
+            return store_block_4(H, timed, qd, M, h);
+        case 5:
+            return store_block_5(H, timed, qd, M, h);
+        case 6:
+            return store_block_6(H, timed, qd, M, h);
         default:
             break;
         }
     }
-    return store_block_at(H, n, c0, pc, timed, qd, M, h);
+    return store_block_n(H, n, c0, pc, timed, qd, M, h);
 }
 
 int tp_lagrange(tp_ws *ws, const double *x, int out, double *L, double *dLdq,
