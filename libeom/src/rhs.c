@@ -408,16 +408,13 @@ static double dot(const double *a, const double *b, int n)
     return sum;
 }
 
-int eom__nonconservative(eom_system *s, double t, const double *x)
+/* The forces of a model with dissipation or forces: Qv and its power.
+ * Apart from eom__nonconservative, whose common case (neither) then
+ * saves no registers and inlines. */
+EOM_NOINLINE static int forces_at(eom_system *s, double t, const double *x)
 {
     const int n = s->n;
     int i, st, rc;
-    s->power = 0.0;
-    /* neither: Qv stays as alloc_arrays made it, all +0, and its power
-     * qd . Qv, a sum of signed zeros from +0, is +0 at any finite qd (the
-     * callers have checked x) */
-    if (!s->has_R && !s->has_Q)
-        return EOM_OK;
     memset(s->Qv, 0, (size_t)n * sizeof(double));
     if (s->has_R) {
         st = tp_gradient(s->tR.ws, eom__tape_input(&s->tR, x, t), 0, NULL,
@@ -436,6 +433,17 @@ int eom__nonconservative(eom_system *s, double t, const double *x)
     }
     s->power = dot(x + n, s->Qv, n);
     return EOM_OK;
+}
+
+int eom__nonconservative(eom_system *s, double t, const double *x)
+{
+    s->power = 0.0;
+    /* neither: Qv stays as alloc_arrays made it, all +0, and its power
+     * qd . Qv, a sum of signed zeros from +0, is +0 at any finite qd (the
+     * callers have checked x) */
+    if (!s->has_R && !s->has_Q)
+        return EOM_OK;
+    return forces_at(s, t, x);
 }
 
 int eom__evaluate(eom_system *s, double t, const double *x)
