@@ -310,11 +310,16 @@ int tp_taylor2(tp_ws *ws, const double *x, const double *d, double *y,
  * written is finite. With all n columns in one chunk (always so for a
  * compiled block) the d/dqd rows are M itself, row-major: one copy. */
 #if defined(__GNUC__)
-__attribute__((always_inline))
+#define TP_INLINE static inline __attribute__((always_inline))
+#define TP_NOINLINE __attribute__((noinline))
+#else
+#define TP_INLINE static inline
+#define TP_NOINLINE
 #endif
-static inline bool store_block_at(const double *H, int n, int c0, int pc,
-                                  bool timed, const double *qd, double *M,
-                                  double *h)
+
+TP_INLINE bool store_block_at(const double *H, int n, int c0, int pc,
+                              bool timed, const double *qd, double *M,
+                              double *h)
 {
     const size_t un = (size_t)n, upc = (size_t)pc;
     bool ok = true;
@@ -355,11 +360,6 @@ static inline bool store_block_at(const double *H, int n, int c0, int pc,
  * took 160 instructions (callgrind) for 4 copies and 2 dot products. The
  * arithmetic is the same, in the same order. One function per size,
  * never inlined, so that each saves only the registers it uses. */
-#if defined(__GNUC__)
-#define TP_NOINLINE __attribute__((noinline))
-#else
-#define TP_NOINLINE
-#endif
 #define TP_STORE_BLOCK_OF_SIZE(k)                                           \
     TP_NOINLINE static bool store_block_##k(const double *H, bool timed,   \
                                             const double *qd, double *M,   \
@@ -381,8 +381,9 @@ TP_NOINLINE static bool store_block_n(const double *H, int n, int c0, int pc,
     return store_block_at(H, n, c0, pc, timed, qd, M, h);
 }
 
-static bool store_block(const double *H, int n, int c0, int pc, bool timed,
-                        const double *qd, double *M, double *h)
+TP_INLINE bool store_block(const double *H, int n, int c0, int pc,
+                           bool timed, const double *qd, double *M,
+                           double *h)
 {
     if (pc == n) {
         switch (n) {
@@ -449,7 +450,7 @@ int tp_lagrange_t(tp_ws *ws, const double *x, int out, double *L,
         }
         for (c0 = 0; c0 < n && (M || h); c0 += ws->max_dirs) {
             const int pc = n - c0 < ws->max_dirs ? n - c0 : ws->max_dirs;
-            const unsigned mask = tp__seed_mask(T, pc, NULL, 0, n + c0);
+            const unsigned mask = tp__unit_seed_mask(T, pc, n + c0);
             tp__fwd1(ws, x, pc, NULL, 0, n + c0, mask, end);
             tp__rev2(ws, w, pc, mask, end, c0 == 0 ? ws->g : NULL, ws->hs,
                      (size_t)pc);
