@@ -34,10 +34,19 @@ static bool all_finite(const double *a, size_t n)
     return true;
 }
 
-/* ok stays true while every value a is finite: a test and an AND, no
- * branch, so that tp_lagrange_t checks its results in the loops that
- * write them (few values each: a loop of its own cost more). */
-#define TP_FINITE_AND(ok, a) ((ok) &= isfinite(a) != 0)
+/* Bit 63 set when a is an infinity or a NaN: its exponent field, all
+ * ones, carries into bit 63 when one is added to it; no other exponent
+ * reaches it. An OR of these over the values written has no branch, so
+ * tp_lagrange_t checks its results in the loops that write them (and
+ * GCC vectorizes those loops). */
+static inline uint64_t nonfinite_bit(double a)
+{
+    uint64_t u;
+    memcpy(&u, &a, sizeof u);
+    return (u & UINT64_C(0x7ff0000000000000)) + UINT64_C(0x0010000000000000);
+}
+#define TP_NONFINITE_OR(acc, a) ((acc) |= nonfinite_bit(a))
+#define TP_ALL_FINITE(acc) (((acc) >> 63) == 0)
 
 /* Accumulates the status of a call: TP_WARN_NONFINITE once any requested
  * result is not finite. */
@@ -317,18 +326,20 @@ int tp_taylor2(tp_ws *ws, const double *x, const double *d, double *y,
 #define TP_NOINLINE
 #endif
 
-TP_INLINE bool store_block_at(const double *H, int n, int c0, int pc,
-                              bool timed, const double *qd, double *M,
-                              double *h)
+/* (The arrays never overlap: tape.h says so of tp_lagrange's.) */
+TP_INLINE bool store_block_at(const double *restrict H, int n, int c0,
+                              int pc, bool timed,
+                              const double *restrict qd, double *restrict M,
+                              double *restrict h)
 {
     const size_t un = (size_t)n, upc = (size_t)pc;
-    bool ok = true;
+    uint64_t bad = 0;
     size_t i, k;
     if (M && pc == n) {
         const double *r = H + un * un;
         for (i = 0; i < un * un; i++) {
             M[i] = r[i];
-            TP_FINITE_AND(ok, r[i]);
+            TP_NONFINITE_OR(bad, r[i]);
         }
     } else if (M) {
         for (i = 0; i < un; i++) {
@@ -336,23 +347,28 @@ TP_INLINE bool store_block_at(const double *H, int n, int c0, int pc,
             double *Mi = M + i * un + (size_t)c0;
             for (k = 0; k < upc; k++) {
                 Mi[k] = r[k];
-                TP_FINITE_AND(ok, r[k]);
+                TP_NONFINITE_OR(bad, r[k]);
             }
         }
     }
-    if (h)
-        for (k = 0; k < upc; k++) {
-            /* h_c = sum_j d2L/(dq_j dqd_c) qd_j (+ d2L/(dt dqd_c)) */
-            const double *col = H + k;
-            double s = 0.0;
-            for (i = 0; i < un; i++)
-                s += col[i * upc] * qd[i];
-            if (timed)
-                s += col[2 * un * upc];
-            h[(size_t)c0 + k] = s;
-            TP_FINITE_AND(ok, s);
+    if (h) {
+        /* h_c = sum_j d2L/(dq_j dqd_c) qd_j (+ d2L/(dt dqd_c)), summed
+         * from 0 over j in order, row by row: contiguous columns */
+        double *hc = h + c0;
+        for (k = 0; k < upc; k++)
+            hc[k] = 0.0;
+        for (i = 0; i < un; i++) {
+            const double *r = H + i * upc, qi = qd[i];
+            for (k = 0; k < upc; k++)
+                hc[k] += r[k] * qi;
         }
-    return ok;
+        if (timed)
+            for (k = 0; k < upc; k++)
+                hc[k] += H[2 * un * upc + k];
+        for (k = 0; k < upc; k++)
+            TP_NONFINITE_OR(bad, hc[k]);
+    }
+    return TP_ALL_FINITE(bad);
 }
 
 /* The whole block of a small model (n <= 6, one chunk) with n the
@@ -425,6 +441,7 @@ int tp_lagrange_t(tp_ws *ws, const double *x, int out, double *L,
     int n, c0;
     bool timed, compiled;
     bool ok = true; /* every result finite */
+    uint64_t bad = 0; /* TP_NONFINITE_OR of L, dLdq, dLdt */
     if (st)
         return st;
     T = ws->t;
@@ -459,20 +476,20 @@ int tp_lagrange_t(tp_ws *ws, const double *x, int out, double *L,
     }
     if (L) {
         *L = ws->v[T->out_slot[out]];
-        TP_FINITE_AND(ok, *L);
+        TP_NONFINITE_OR(bad, *L);
     }
     if (dLdq) {
         int i;
         for (i = 0; i < n; i++) {
             dLdq[i] = ws->g[i];
-            TP_FINITE_AND(ok, dLdq[i]);
+            TP_NONFINITE_OR(bad, dLdq[i]);
         }
     }
     if (dLdt) {
         *dLdt = timed ? ws->g[2 * n] : 0.0;
-        TP_FINITE_AND(ok, *dLdt);
+        TP_NONFINITE_OR(bad, *dLdt);
     }
-    if (!ok)
+    if (!ok || !TP_ALL_FINITE(bad))
         st = TP_WARN_NONFINITE;
     return st;
 }
