@@ -128,8 +128,8 @@ EOM_INLINE_BODY void potrs_body(int n, int nrhs, const double *A, double *B)
  * constant k, where their loops unroll (callgrind: the general loops
  * took 206 instructions to factor and solve at n = 2, mostly loop
  * control, these 49; at n = 5, 723 and 319). One function per size,
- * never inlined, so that each saves only the registers it uses and
- * small_potrf and small_potrs only jump. */
+ * never inlined, so that each saves only the registers it uses;
+ * small_potrf and small_potrs call them through a table. */
 #define EOM_CHOLESKY_OF_SIZE(k)                                             \
     EOM_SCALAR_LOOPS EOM_NOINLINE static int potrf_##k(const double *M,    \
                                                         double *A)          \
@@ -160,51 +160,27 @@ EOM_SCALAR_LOOPS EOM_NOINLINE static void potrs_n(int n, int nrhs,
     potrs_body(n, nrhs, A, B);
 }
 
+/* The functions of each size, indexed by n. */
+static int (*const potrf_of_size[])(const double *M, double *A) = {
+    NULL, potrf_1, potrf_2, potrf_3, potrf_4, potrf_5, potrf_6};
+static void (*const potrs_of_size[])(int nrhs, const double *A,
+                                     double *B) = {
+    NULL, potrs_1, potrs_2, potrs_3, potrs_4, potrs_5, potrs_6};
+#define EOM_SIZES_UNROLLED 6
+
 static int small_potrf(int n, const double *M, double *A)
 {
-    switch (n) {
-    case 1:
-        return potrf_1(M, A);
-    case 2:
-        return potrf_2(M, A);
-    case 3:
-        return potrf_3(M, A);
-    case 4:
-        return potrf_4(M, A);
-    case 5:
-        return potrf_5(M, A);
-    case 6:
-        return potrf_6(M, A);
-    default:
-        return potrf_n(n, M, A);
-    }
+    if (n >= 1 && n <= EOM_SIZES_UNROLLED)
+        return potrf_of_size[n](M, A);
+    return potrf_n(n, M, A);
 }
 
 static void small_potrs(int n, int nrhs, const double *A, double *B)
 {
-    switch (n) {
-    case 1:
-        potrs_1(nrhs, A, B);
-        break;
-    case 2:
-        potrs_2(nrhs, A, B);
-        break;
-    case 3:
-        potrs_3(nrhs, A, B);
-        break;
-    case 4:
-        potrs_4(nrhs, A, B);
-        break;
-    case 5:
-        potrs_5(nrhs, A, B);
-        break;
-    case 6:
-        potrs_6(nrhs, A, B);
-        break;
-    default:
+    if (n >= 1 && n <= EOM_SIZES_UNROLLED)
+        potrs_of_size[n](nrhs, A, B);
+    else
         potrs_n(n, nrhs, A, B);
-        break;
-    }
 }
 
 /* LAPACK's path, apart so that the small one sets up none of its

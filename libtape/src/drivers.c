@@ -375,7 +375,8 @@ TP_INLINE bool store_block_at(const double *restrict H, int n, int c0,
  * constant k, so that the loops above unroll: at n = 2 the general loops
  * took 160 instructions (callgrind) for 4 copies and 2 dot products. The
  * arithmetic is the same, in the same order. One function per size,
- * never inlined, so that each saves only the registers it uses. */
+ * never inlined, so that each saves only the registers it uses, called
+ * through a table. */
 #define TP_STORE_BLOCK_OF_SIZE(k)                                           \
     TP_NOINLINE static bool store_block_##k(const double *H, bool timed,   \
                                             const double *qd, double *M,   \
@@ -397,28 +398,20 @@ TP_NOINLINE static bool store_block_n(const double *H, int n, int c0, int pc,
     return store_block_at(H, n, c0, pc, timed, qd, M, h);
 }
 
+/* The functions of each size, indexed by n. */
+static bool (*const store_block_of_size[])(const double *H, bool timed,
+                                           const double *qd, double *M,
+                                           double *h) = {
+    NULL,          store_block_1, store_block_2, store_block_3,
+    store_block_4, store_block_5, store_block_6};
+#define TP_SIZES_UNROLLED 6
+
 TP_INLINE bool store_block(const double *H, int n, int c0, int pc,
                            bool timed, const double *qd, double *M,
                            double *h)
 {
-    if (pc == n) {
-        switch (n) {
-        case 1:
-            return store_block_1(H, timed, qd, M, h);
-        case 2:
-            return store_block_2(H, timed, qd, M, h);
-        case 3:
-            return store_block_3(H, timed, qd, M, h);
-        case 4:
-            return store_block_4(H, timed, qd, M, h);
-        case 5:
-            return store_block_5(H, timed, qd, M, h);
-        case 6:
-            return store_block_6(H, timed, qd, M, h);
-        default:
-            break;
-        }
-    }
+    if (pc == n && n >= 1 && n <= TP_SIZES_UNROLLED)
+        return store_block_of_size[n](H, timed, qd, M, h);
     return store_block_n(H, n, c0, pc, timed, qd, M, h);
 }
 
