@@ -313,11 +313,6 @@ int tp_taylor2(tp_ws *ws, const double *x, const double *d, double *y,
     return st;
 }
 
-/* M's columns c0 .. c0 + pc - 1 and h's entries from H, the Hessian
- * columns of one chunk of rate directions (rows: d/dq (n), then d/dqd
- * (n), then d/dt when timed; pc columns). Returns whether every value
- * written is finite. With all n columns in one chunk (always so for a
- * compiled block) the d/dqd rows are M itself, row-major: one copy. */
 #if defined(__GNUC__)
 #define TP_INLINE static inline __attribute__((always_inline))
 #define TP_NOINLINE __attribute__((noinline))
@@ -326,7 +321,12 @@ int tp_taylor2(tp_ws *ws, const double *x, const double *d, double *y,
 #define TP_NOINLINE
 #endif
 
-/* (The arrays never overlap: tape.h says so of tp_lagrange's.) */
+/* M's columns c0 .. c0 + pc - 1 and h's entries from H, the Hessian
+ * columns of one chunk of rate directions (rows: d/dq (n), then d/dqd
+ * (n), then d/dt when timed; pc columns). Returns whether every value
+ * written is finite. With all n columns in one chunk (always so for a
+ * compiled block) the d/dqd rows are M itself, row-major: one copy.
+ * The arrays never overlap (tape.h says so of tp_lagrange's). */
 TP_INLINE bool store_block_at(const double *restrict H, int n, int c0,
                               int pc, bool timed,
                               const double *restrict qd, double *restrict M,
@@ -443,7 +443,7 @@ int tp_lagrange_t(tp_ws *ws, const double *x, int out, double *L,
     n = (int)T->n_indep / 2;
     timed = T->n_indep % 2 != 0;
     qd = x + n;
-    /* h needs no clearing: the chunks below write each entry once */
+    /* h is not cleared first: each chunk's store_block sets its entries */
     /* compiled: the whole block in one call (lcount = n <= max_dirs), no
      * weights, ends or seed masks to work out */
     compiled = ws->cc && ws->cc->lagrange && ws->cc->lout == out &&
