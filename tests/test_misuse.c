@@ -20,7 +20,10 @@
  *   - domain errors (log(-1), sqrt(-1), 1/0) and non-finite inputs give
  *     NaN or infinite results with TP_WARN_NONFINITE from every sweep and
  *     both evaluators, while results that do not depend on them stay
- *     finite, correct and TP_OK.
+ *     finite, correct and TP_OK;
+ *   - tp_lagrange_t warns when any one of its results alone (L's
+ *     gradient, dL/dt, M or h) is not finite, and not when that result
+ *     is not asked for.
  */
 #include <ctype.h>
 #include <limits.h>
@@ -1003,6 +1006,92 @@ done:
     tp_tape_free(&T);
 }
 
+/* ---- one bad result of tp_lagrange_t ---------------------------------- */
+
+/* Lagrangians of n coordinates, x = (q, qd, t), where exactly one of
+ * tp_lagrange_t's results is not finite at x = 0 (qd_1 = 1e300 for h):
+ * each result is checked on its own, in every way the block is stored
+ * (n = 2: the unrolled copy; n = 7: the general one; max_dirs 1: in
+ * chunks). */
+enum { BAD_M, BAD_DLDQ, BAD_DLDT, BAD_H, BAD_N };
+
+typedef struct bad_case {
+    int which, n;
+} bad_case;
+
+static int bad_fn(tp_rec *r, void *user)
+{
+    const bad_case *c = user;
+    const tp_val q0 = tp_indep(r, 0), q1 = tp_indep(r, 1),
+                 qd0 = tp_indep(r, c->n), t = tp_indep(r, 2 * c->n);
+    tp_val L;
+    switch (c->which) {
+    case BAD_M: /* d2L/dqd0^2 = 0.75 / sqrt(qd0) */
+        L = tp_powc(r, qd0, 1.5);
+        break;
+    case BAD_DLDQ: /* dL/dq0 = 0.5 / sqrt(q0) */
+        L = tp_powc(r, q0, 0.5);
+        break;
+    case BAD_DLDT: /* dL/dt = 0.5 / sqrt(t) */
+        L = tp_powc(r, t, 0.5);
+        break;
+    default: /* h_0 = 1e10 qd1 overflows; its Hessian entry is 1e10 */
+        L = tp_mulc(r, tp_mul(r, q1, qd0), 1e10);
+        break;
+    }
+    tp_output(r, "L", L);
+    return 0;
+}
+
+static void lagrange_one_bad(void)
+{
+    static const int sizes[2] = {2, 7};
+    int which, k, d;
+    for (which = 0; which < BAD_N; which++)
+        for (k = 0; k < 2; k++) {
+            const int n = sizes[k];
+            bad_case c;
+            unsigned char group[15];
+            double x[15] = {0}, L, dLdq[7], dLdt, M[49], h[7];
+            tp_rec *r = NULL;
+            tp_tape *T = NULL;
+            int i;
+            c.which = which;
+            c.n = n;
+            for (i = 0; i < 2 * n + 1; i++)
+                group[i] = (unsigned char)(i < n ? 0 : i < 2 * n ? 1 : 2);
+            if (which == BAD_H)
+                x[n + 1] = 1e300;
+            CHECK_INT(tp_recorder_new(&r, 2 * n + 1, group, NULL), TP_OK);
+            CHECK_INT(tp_rec_run(r, NULL, bad_fn, &c), TP_OK);
+            CHECK_INT(tp_recorder_finish(r, &T), TP_OK);
+            tp_rec_free(&r);
+            for (d = 0; T && d < 2; d++) {
+                tp_ws *ws = NULL;
+                const int fails = check_failures_;
+                char ctx[64];
+                snprintf(ctx, sizeof ctx, "case %d, n = %d, max_dirs %d",
+                         which, n, d ? 1 : n);
+                CHECK_INT(tp_ws_new(&ws, T, d ? 1 : n, NULL), TP_OK);
+                if (!ws)
+                    continue;
+                CHECK_INT(tp_lagrange_t(ws, x, 0, &L, dLdq, &dLdt, M, h),
+                          TP_WARN_NONFINITE);
+                /* without the bad result, the others are finite */
+                CHECK_INT(tp_lagrange_t(ws, x, 0, &L,
+                                        which == BAD_DLDQ ? NULL : dLdq,
+                                        which == BAD_DLDT ? NULL : &dLdt,
+                                        which == BAD_M ? NULL : M,
+                                        which == BAD_H ? NULL : h),
+                          TP_OK);
+                if (check_failures_ != fails)
+                    fprintf(stderr, "  (in %s)\n", ctx);
+                tp_ws_free(&ws);
+            }
+            tp_tape_free(&T);
+        }
+}
+
 int main(void)
 {
     status_table();
@@ -1019,5 +1108,6 @@ int main(void)
     empty_and_user();
     sticky();
     domain();
+    lagrange_one_bad();
     CHECK_DONE();
 }

@@ -60,7 +60,6 @@
  * triangle, column-major), so dpocon reads either. */
 #define EOM_SMALL_CHOLESKY 16
 
-/* LAPACK's dpotrf for small n: info = j + 1 at a non-positive pivot. */
 /* The loops of the small path run a few times each: vectorized, their
  * set-up cost more than the work (a 2 x 2 solve took 312 instructions);
  * GCC keeps them plain here. */
@@ -69,12 +68,24 @@
 #else
 #define EOM_SCALAR_LOOPS
 #endif
+#if defined(__GNUC__)
+#define EOM_INLINE_BODY static inline __attribute__((always_inline))
+#define EOM_NOINLINE __attribute__((noinline))
+#else
+#define EOM_INLINE_BODY static inline
+#define EOM_NOINLINE
+#endif
 
-EOM_SCALAR_LOOPS static int small_potrf(int n, double *A)
+/* LAPACK's dpotrf for small n, reading the lower triangle of M and
+ * writing the factor's into A (the upper triangle of A is not touched:
+ * nothing reads it), so no copy of M comes first: info = j + 1 at a
+ * non-positive pivot. The sums run in a local, in the order of the
+ * in-place loops they replace (the same roundings). */
+EOM_INLINE_BODY int potrf_body(int n, const double *M, double *A)
 {
     int i, j, k;
     for (j = 0; j < n; j++) {
-        double d = A[j + j * n];
+        double d = M[j + j * n];
         for (k = 0; k < j; k++)
             d -= A[j + k * n] * A[j + k * n];
         if (!(d > 0.0))
@@ -82,7 +93,7 @@ EOM_SCALAR_LOOPS static int small_potrf(int n, double *A)
         d = sqrt(d);
         A[j + j * n] = d;
         for (i = j + 1; i < n; i++) {
-            double t = A[i + j * n];
+            double t = M[i + j * n];
             for (k = 0; k < j; k++)
                 t -= A[i + k * n] * A[j + k * n];
             A[i + j * n] = t / d;
@@ -91,35 +102,112 @@ EOM_SCALAR_LOOPS static int small_potrf(int n, double *A)
     return 0;
 }
 
-/* Solve L L^T X = B for nrhs columns of n (column-major). */
-EOM_SCALAR_LOOPS static void small_potrs(int n, int nrhs, const double *A,
-                                         double *B)
+/* Solve L L^T X = B for nrhs columns of n (column-major) in place; each
+ * entry is accumulated in a local and stored once. */
+EOM_INLINE_BODY void potrs_body(int n, int nrhs, const double *A, double *B)
 {
     int c, i, k;
     for (c = 0; c < nrhs; c++) {
         double *b = B + (size_t)c * (size_t)n;
         for (i = 0; i < n; i++) {
+            double t = b[i];
             for (k = 0; k < i; k++)
-                b[i] -= A[i + k * n] * b[k];
-            b[i] /= A[i + i * n];
+                t -= A[i + k * n] * b[k];
+            b[i] = t / A[i + i * n];
         }
         for (i = n; i-- > 0;) {
+            double t = b[i];
             for (k = i + 1; k < n; k++)
-                b[i] -= A[k + i * n] * b[k];
-            b[i] /= A[i + i * n];
+                t -= A[k + i * n] * b[k];
+            b[i] = t / A[i + i * n];
         }
     }
+}
+
+/* The factor and the solve of one size k: the bodies above with n the
+ * constant k, where their loops unroll (callgrind: the general loops
+ * took 206 instructions to factor and solve at n = 2, mostly loop
+ * control, these 49; at n = 5, 723 and 319). One function per size,
+ * never inlined, so that each saves only the registers it uses;
+ * small_potrf and small_potrs call them through a table. */
+#define EOM_CHOLESKY_OF_SIZE(k)                                             \
+    EOM_SCALAR_LOOPS EOM_NOINLINE static int potrf_##k(const double *M,    \
+                                                        double *A)          \
+    {                                                                       \
+        return potrf_body(k, M, A);                                         \
+    }                                                                       \
+    EOM_SCALAR_LOOPS EOM_NOINLINE static void potrs_##k(                   \
+        int nrhs, const double *A, double *B)                               \
+    {                                                                       \
+        potrs_body(k, nrhs, A, B);                                          \
+    }
+EOM_CHOLESKY_OF_SIZE(1)
+EOM_CHOLESKY_OF_SIZE(2)
+EOM_CHOLESKY_OF_SIZE(3)
+EOM_CHOLESKY_OF_SIZE(4)
+EOM_CHOLESKY_OF_SIZE(5)
+EOM_CHOLESKY_OF_SIZE(6)
+
+EOM_SCALAR_LOOPS EOM_NOINLINE static int potrf_n(int n, const double *M,
+                                                  double *A)
+{
+    return potrf_body(n, M, A);
+}
+
+EOM_SCALAR_LOOPS EOM_NOINLINE static void potrs_n(int n, int nrhs,
+                                                   const double *A, double *B)
+{
+    potrs_body(n, nrhs, A, B);
+}
+
+/* The functions of each size, indexed by n. */
+static int (*const potrf_of_size[])(const double *M, double *A) = {
+    NULL, potrf_1, potrf_2, potrf_3, potrf_4, potrf_5, potrf_6};
+static void (*const potrs_of_size[])(int nrhs, const double *A,
+                                     double *B) = {
+    NULL, potrs_1, potrs_2, potrs_3, potrs_4, potrs_5, potrs_6};
+#define EOM_SIZES_UNROLLED 6
+
+static int small_potrf(int n, const double *M, double *A)
+{
+    if (n >= 1 && n <= EOM_SIZES_UNROLLED)
+        return potrf_of_size[n](M, A);
+    return potrf_n(n, M, A);
+}
+
+static void small_potrs(int n, int nrhs, const double *A, double *B)
+{
+    if (n >= 1 && n <= EOM_SIZES_UNROLLED)
+        potrs_of_size[n](nrhs, A, B);
+    else
+        potrs_n(n, nrhs, A, B);
+}
+
+/* LAPACK's path, apart so that the small one sets up none of its
+ * arguments (they live in memory, for Fortran). */
+EOM_NOINLINE static int lapack_potrf(int n, const double *M, double *A)
+{
+    int info = 0;
+    memcpy(A, M, (size_t)n * (size_t)n * sizeof(double));
+    dpotrf_("L", &n, A, &n, &info, 1);
+    return info;
+}
+
+EOM_NOINLINE static int lapack_potrs(eom_system *s, double *B, int nrhs)
+{
+    const int n = s->n;
+    int info = 0;
+    dpotrs_("L", &n, &nrhs, s->Mf, &n, B, &n, &info, 1);
+    if (info != 0)
+        return eom__fail(s, EOM_ERR_LINALG, "dpotrs: argument %d", -info);
+    return EOM_OK;
 }
 
 int eom__factor_mass(eom_system *s)
 {
     const int n = s->n;
-    int info = 0;
-    memcpy(s->Mf, s->M, (size_t)n * (size_t)n * sizeof(double));
-    if (n <= EOM_SMALL_CHOLESKY)
-        info = small_potrf(n, s->Mf);
-    else
-        dpotrf_("L", &n, s->Mf, &n, &info, 1);
+    const int info = n <= EOM_SMALL_CHOLESKY ? small_potrf(n, s->M, s->Mf)
+                                             : lapack_potrf(n, s->M, s->Mf);
     s->mf_valid = info == 0;
     if (info > 0)
         return eom__fail(s, EOM_ERR_SINGULAR_MASS,
@@ -132,15 +220,9 @@ int eom__factor_mass(eom_system *s)
 
 int eom__mass_solve(eom_system *s, double *B, int nrhs)
 {
-    const int n = s->n;
-    int info = 0;
-    if (n <= EOM_SMALL_CHOLESKY) {
-        small_potrs(n, nrhs, s->Mf, B);
-        return EOM_OK;
-    }
-    dpotrs_("L", &n, &nrhs, s->Mf, &n, B, &n, &info, 1);
-    if (info != 0)
-        return eom__fail(s, EOM_ERR_LINALG, "dpotrs: argument %d", -info);
+    if (s->n > EOM_SMALL_CHOLESKY)
+        return lapack_potrs(s, B, nrhs);
+    small_potrs(s->n, nrhs, s->Mf, B);
     return EOM_OK;
 }
 
@@ -302,12 +384,14 @@ static double dot(const double *a, const double *b, int n)
     return sum;
 }
 
-int eom__nonconservative(eom_system *s, double t, const double *x)
+/* The forces of a model with dissipation or forces: Qv and its power.
+ * Apart from eom__nonconservative, whose common case (neither) then
+ * saves no registers and inlines. */
+EOM_NOINLINE static int forces_at(eom_system *s, double t, const double *x)
 {
     const int n = s->n;
     int i, st, rc;
     memset(s->Qv, 0, (size_t)n * sizeof(double));
-    s->power = 0.0;
     if (s->has_R) {
         st = tp_gradient(s->tR.ws, eom__tape_input(&s->tR, x, t), 0, NULL,
                          s->gR);
@@ -327,6 +411,17 @@ int eom__nonconservative(eom_system *s, double t, const double *x)
     return EOM_OK;
 }
 
+int eom__nonconservative(eom_system *s, double t, const double *x)
+{
+    s->power = 0.0;
+    /* neither: Qv stays as alloc_arrays made it, all +0, and its power
+     * qd . Qv, a sum of signed zeros from +0, is +0 at any finite qd (the
+     * callers have checked x) */
+    if (!s->has_R && !s->has_Q)
+        return EOM_OK;
+    return forces_at(s, t, x);
+}
+
 int eom__evaluate(eom_system *s, double t, const double *x)
 {
     const int n = s->n, m = s->m;
@@ -344,16 +439,15 @@ int eom__evaluate(eom_system *s, double t, const double *x)
                        &s->dLdt, s->M, s->h);
     if ((rc = eom__tape_status(s, st, "the Lagrangian or a derivative")))
         return rc;
-    for (i = 0; i < n; i++)
-        s->F[i] = s->g[i] - s->h[i];
     if ((rc = eom__nonconservative(s, t, x)) != EOM_OK)
         return rc;
+    /* F = (g - h) + Qv, rounded as two steps were (Qv is +0 without
+     * forces: -0 becomes +0 as before), and qdd = F, solved in place */
     for (i = 0; i < n; i++)
-        s->F[i] += s->Qv[i];
+        s->qdd[i] = s->F[i] = s->g[i] - s->h[i] + s->Qv[i];
     s->power_t = -s->dLdt;
     if ((rc = eom__factor_mass(s)) != EOM_OK)
         return rc;
-    memcpy(s->qdd, s->F, (size_t)n * sizeof(double));
     if ((rc = eom__mass_solve(s, s->qdd, 1)) != EOM_OK)
         return rc;
     if (m > 0) {

@@ -18,15 +18,6 @@ int eom__fail(eom_system *s, int status, const char *fmt, ...)
     return status;
 }
 
-bool eom__finite(const double *a, size_t n)
-{
-    size_t i;
-    for (i = 0; i < n; i++)
-        if (!isfinite(a[i]))
-            return false;
-    return true;
-}
-
 int eom__tape_status(eom_system *s, int st, const char *what)
 {
     if (st == TP_OK)

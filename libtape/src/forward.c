@@ -25,14 +25,12 @@ unsigned tp__seed_mask(const tp_tape *T, int p, const double *S, size_t lds,
     unsigned mask = 0;
     uint32_t i;
     int k;
+    if (!S)
+        return tp__unit_seed_mask(T, p, first);
     for (i = 0; i < T->n_indep; i++) {
         bool seeded = false;
-        if (S) {
-            for (k = 0; k < p && !seeded; k++)
-                seeded = S[i * lds + (size_t)k] != 0.0;
-        } else {
-            seeded = (int)i >= first && (int)i < first + p;
-        }
+        for (k = 0; k < p && !seeded; k++)
+            seeded = S[i * lds + (size_t)k] != 0.0;
         if (seeded)
             mask |= 1u << T->group[i];
     }
@@ -112,7 +110,14 @@ void tp__fwd1(tp_ws *ws, const double *x, int p, const double *S, size_t lds,
         double *r = tan + i * P;
         if (!(dep[i] & mask))
             continue;
-        memset(r, 0, (size_t)pr * sizeof(double));
+        /* one or two vectors of columns, the common widths: a constant
+         * size, so the clearing is a few stores, not a call */
+        if (pr == TP_LANES)
+            memset(r, 0, TP_LANES * sizeof(double));
+        else if (pr == 2 * TP_LANES)
+            memset(r, 0, 2 * TP_LANES * sizeof(double));
+        else
+            memset(r, 0, (size_t)pr * sizeof(double));
         if (S)
             memcpy(r, S + i * lds, (size_t)p * sizeof(double));
         else if ((int)i >= first && (int)i < first + p)

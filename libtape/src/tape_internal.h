@@ -228,6 +228,17 @@ void tp__ensure_passive(tp_ws *ws);
 /* The dependency mask of a seed (groups of independents it touches). */
 unsigned tp__seed_mask(const tp_tape *t, int p, const double *S, size_t lds,
                        int first);
+/* The same for unit directions on the independents first .. first+p-1
+ * (S NULL), inline: tp_lagrange_t asks for it on every call. */
+static inline unsigned tp__unit_seed_mask(const tp_tape *t, int p, int first)
+{
+    unsigned mask = 0;
+    int k;
+    for (k = first < 0 ? 0 : first; k < first + p && k < (int)t->n_indep;
+         k++)
+        mask |= 1u << t->group[k];
+    return mask;
+}
 
 /* Reference interpreter (reference.c): the same results as the sweeps,
  * computed one direction at a time with the generic partials, no skipping

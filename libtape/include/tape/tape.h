@@ -354,8 +354,9 @@ TP_API int tp_taylor2(tp_ws *ws, const double *x, const double *d, double *y,
  * x = (q, qd) and whose output out is L: the value *L, dLdq[n], the mass
  * matrix M = d2L/dqd2 (n x n) and h = (d2L/dqd dq) qd [n]. One forward
  * sweep and one reverse sweep carrying n directions seeded on qd (chunked
- * if max_dirs < n). Any of L, dLdq, M, h may be NULL. A tape of 2n + 1
- * independents is read as in tp_lagrange_t. */
+ * if max_dirs < n). Any of L, dLdq, M, h may be NULL; none may overlap
+ * x or another. A tape of 2n + 1 independents is read as in
+ * tp_lagrange_t. */
 TP_API int tp_lagrange(tp_ws *ws, const double *x, int out, double *L,
                        double *dLdq, double *M, double *h);
 
