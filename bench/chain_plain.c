@@ -16,11 +16,13 @@ void dpotrs_(const char *uplo, const int *n, const int *nrhs,
              const double *a, const int *lda, double *b, const int *ldb,
              int *info, size_t uplo_len);
 
-/* The same split as libeom's (libeom/src/rhs.c): up to this size the
- * Cholesky is plain loops, above it LAPACK's, so that "times the
- * hand-coded right-hand side" means times the physical limit of a
- * Lagrangian route, not times LAPACK's call overhead. */
+/* The same split as libeom's (libeom/src/rhs.c, cholesky_columns.c): up
+ * to SMALL_CHOLESKY the Cholesky is plain loops, up to COLUMN_CHOLESKY
+ * loops by columns, above it LAPACK's, so that "times the hand-coded
+ * right-hand side" means times the physical limit of a Lagrangian route,
+ * not times LAPACK's call overhead. */
 #define SMALL_CHOLESKY 16
+#define COLUMN_CHOLESKY 128
 
 /* L L^T = A (column-major lower triangle, n x n), then solve for b. */
 static int small_cholesky_solve(int n, double *A, double *b)
@@ -52,6 +54,50 @@ static int small_cholesky_solve(int n, double *A, double *b)
         for (k = i + 1; k < n; k++)
             t -= A[k + i * n] * b[k];
         b[i] = t / A[i + i * n];
+    }
+    return 0;
+}
+
+/* As libeom's medium path (libeom/src/cholesky_columns.c, typed again
+ * here: the bench uses public headers only): the factor left-looking by
+ * unit-stride column updates, the solve by columns, the AVX2 clone
+ * beside the generic code. */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) &&    \
+    defined(__linux__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+static int column_cholesky_solve(int n, double *A, double *b)
+{
+    int i, j, k;
+    for (j = 0; j < n; j++) {
+        double *restrict cj = A + (size_t)j * (size_t)n, d;
+        for (k = 0; k < j; k++) {
+            const double *restrict ck = A + (size_t)k * (size_t)n;
+            const double a = ck[j];
+            for (i = j; i < n; i++)
+                cj[i] -= a * ck[i];
+        }
+        d = cj[j];
+        if (!(d > 0.0))
+            return j + 1;
+        d = sqrt(d);
+        cj[j] = d;
+        for (i = j + 1; i < n; i++)
+            cj[i] /= d;
+    }
+    for (k = 0; k < n; k++) { /* L y = b */
+        const double *restrict ck = A + (size_t)k * (size_t)n;
+        const double y = b[k] / ck[k];
+        b[k] = y;
+        for (i = k + 1; i < n; i++)
+            b[i] -= y * ck[i];
+    }
+    for (i = n - 1; i >= 0; i--) { /* L^T x = y */
+        const double *restrict ci = A + (size_t)i * (size_t)n;
+        double t = b[i];
+        for (k = i + 1; k < n; k++)
+            t -= ci[k] * b[k];
+        b[i] = t / ci[i];
     }
     return 0;
 }
@@ -182,6 +228,8 @@ int chain_plain_solve(int n, double *M, double *b)
     int info = 0, one = 1;
     if (n <= SMALL_CHOLESKY)
         return small_cholesky_solve(n, M, b) == 0 ? 0 : -1;
+    if (n <= COLUMN_CHOLESKY)
+        return column_cholesky_solve(n, M, b) == 0 ? 0 : -1;
     dpotrf_("L", &n, M, &n, &info, 1);
     if (info != 0)
         return -1;

@@ -382,6 +382,14 @@ int eom__refuse_time(eom_system *s, const char *what);
 int eom__evaluate(eom_system *s, double t, const double *x);
 /* Factor s->M into s->Mf (Cholesky); EOM_ERR_SINGULAR_MASS on failure. */
 int eom__factor_mass(eom_system *s);
+/* cholesky_columns.c: the Cholesky factor of mass matrices of medium
+ * size, up to this n (LAPACK's above): the lower triangle of M (n x n,
+ * column-major) read, the factor's written to A's; info = j + 1 at a
+ * non-positive pivot j, else 0. And the solve of A A^T X = B for nrhs
+ * columns of n in place. */
+#define EOM_COLUMN_CHOLESKY 128
+int eom__potrf_columns(int n, const double *M, double *A);
+void eom__potrs_columns(int n, int nrhs, const double *A, double *B);
 /* Forget the factorizations kept from earlier evaluations (KLU's pivot
  * order, the factor of M the projection reuses), so that what follows
  * depends on its inputs alone, not on what s evaluated before. */

@@ -55,9 +55,10 @@
  * measures Debian's reference dpotrf + dpotrs at 3.8 times the cost of the
  * loops below for n = 2 (123 ns against 32 ns), 2.7 times for n = 10 and
  * 2.2 times for n = 20 (docs/benchmarks.md): its call overhead dominates
- * these sizes (a fifth of a small system's whole right-hand side). LAPACK keeps the larger
- * ones. Both leave the factor in the same place and layout (the lower
- * triangle, column-major), so dpocon reads either. */
+ * these sizes (a fifth of a small system's whole right-hand side). Larger
+ * ones go to the loops of cholesky_columns.c up to EOM_COLUMN_CHOLESKY and
+ * to LAPACK above. All leave the factor in the same place and layout (the
+ * lower triangle, column-major), so dpocon reads any of them. */
 #define EOM_SMALL_CHOLESKY 16
 
 /* The loops of the small path run a few times each: vectorized, their
@@ -207,7 +208,9 @@ int eom__factor_mass(eom_system *s)
 {
     const int n = s->n;
     const int info = n <= EOM_SMALL_CHOLESKY ? small_potrf(n, s->M, s->Mf)
-                                             : lapack_potrf(n, s->M, s->Mf);
+                     : n <= EOM_COLUMN_CHOLESKY
+                         ? eom__potrf_columns(n, s->M, s->Mf)
+                         : lapack_potrf(n, s->M, s->Mf);
     s->mf_valid = info == 0;
     if (info > 0)
         return eom__fail(s, EOM_ERR_SINGULAR_MASS,
@@ -220,9 +223,12 @@ int eom__factor_mass(eom_system *s)
 
 int eom__mass_solve(eom_system *s, double *B, int nrhs)
 {
-    if (s->n > EOM_SMALL_CHOLESKY)
+    if (s->n > EOM_COLUMN_CHOLESKY)
         return lapack_potrs(s, B, nrhs);
-    small_potrs(s->n, nrhs, s->Mf, B);
+    if (s->n > EOM_SMALL_CHOLESKY)
+        eom__potrs_columns(s->n, nrhs, s->Mf, B);
+    else
+        small_potrs(s->n, nrhs, s->Mf, B);
     return EOM_OK;
 }
 
