@@ -71,7 +71,17 @@ static int column_cholesky_solve(int n, double *A, double *b)
     int i, j, k;
     for (j = 0; j < n; j++) {
         double *restrict cj = A + (size_t)j * (size_t)n, d;
-        for (k = 0; k < j; k++) {
+        /* four earlier columns at a time: column j is read and written
+         * once for four updates */
+        for (k = 0; k + 4 <= j; k += 4) {
+            const double *restrict c0 = A + (size_t)k * (size_t)n;
+            const double *restrict c1 = c0 + n, *restrict c2 = c1 + n;
+            const double *restrict c3 = c2 + n;
+            const double a0 = c0[j], a1 = c1[j], a2 = c2[j], a3 = c3[j];
+            for (i = j; i < n; i++)
+                cj[i] -= (a0 * c0[i] + a1 * c1[i]) + (a2 * c2[i] + a3 * c3[i]);
+        }
+        for (; k < j; k++) {
             const double *restrict ck = A + (size_t)k * (size_t)n;
             const double a = ck[j];
             for (i = j; i < n; i++)
