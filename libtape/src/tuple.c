@@ -85,7 +85,7 @@ static void id_arrays(tp_tuple *U, void *block, size_t cap)
 }
 
 /* Grow the per-id block to hold at least need ids, keeping every entry
- * (the plan's lie beyond this run's count). */
+ * (the plan's reach beyond this run's count). */
 static bool grow_ids(tp_tuple *U, size_t need)
 {
     const tp_allocator *al = &U->base.al;
@@ -209,6 +209,11 @@ static int tu_begin(tp_rec *base, const double *x)
     U->diverged = U->plan_len == 0;
     U->conflict = false;
     U->next_fresh = U->plan_len ? U->plan_slots : 0;
+    /* a plan uses no more slots than the run it came from had (it frees
+     * only what that run no longer read); checked all the same, as
+     * new_id writes into the plan's slots unchecked */
+    if (U->next_fresh > U->cap_slots && !grow_slots(U, U->next_fresh))
+        return base->status;
     for (i = 0; i < U->n; i++) {
         uint32_t id = new_id(U, NO_ID, NO_ID, true);
         double *d;
@@ -296,8 +301,9 @@ TP_KERNEL void propagate_n(const size_t n, double *restrict w,
 
 /* Models of a few links (2n of 2 to 10 independents) spend most of an op
  * in loop control of rows of one to ten entries: with n a constant the
- * compiler unrolls them. Larger n use the AVX2 clone where there is one
- * (no FMA: every version rounds alike). */
+ * compiler unrolls them. This and the general version below are also
+ * compiled for AVX2, picked at load time where the machine has it (no
+ * FMA: every version rounds alike). */
 TP_VECTOR_CLONES
 static void propagate_small(size_t n, double *w, const double *u,
                             const double *t, const tp_partials *d)
