@@ -377,8 +377,8 @@ static void recording_errors(void)
     static int kinds[] = {BAD_PARAM, BAD_INDEX, BAD_RETURN, BAD_UNSET};
     static const char *const says[] = {"'nosuch'", "coordinate 5",
                                        "returned 7",
-                                       "kinetic energy callback did not "
-                                       "set its value"};
+                                       ("kinetic energy callback did not "
+                                        "set its value")};
     static int phi_kinds[] = {BAD_QD_IN_PHI, BAD_RETURN, BAD_UNSET};
     static const char *const phi_says[] = {"q only", "returned -2",
                                            "did not set value 2 of 2"};
