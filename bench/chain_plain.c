@@ -63,7 +63,7 @@ static int small_cholesky_solve(int n, double *A, double *b)
  * unit-stride column updates, the solve by columns, the AVX2 clone
  * beside the generic code. */
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) &&    \
-    defined(__linux__)
+    defined(__linux__) && !defined(__SANITIZE_THREAD__)
 __attribute__((target_clones("avx2", "default")))
 #endif
 static int column_cholesky_solve(int n, double *A, double *b)

@@ -22,9 +22,10 @@
 #include "eom_internal.h"
 
 /* The AVX2 clone as well as the generic code (GCC's function
- * multi-versioning), picked at load time; no FMA, so both round alike. */
+ * multi-versioning), picked at load time; no FMA, so both round alike.
+ * Not under ThreadSanitizer (as libtape's sweep.h says why). */
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) &&    \
-    defined(__linux__)
+    defined(__linux__) && !defined(__SANITIZE_THREAD__)
 #define EOM_VECTOR_CLONES __attribute__((target_clones("avx2", "default")))
 #else
 #define EOM_VECTOR_CLONES

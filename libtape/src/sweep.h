@@ -12,9 +12,12 @@
 
 /* The row-heavy kernels are also compiled for AVX2 and picked at load time
  * (GCC's function multi-versioning), so a generic build uses 4-wide
- * vectors where the machine has them. No FMA: both versions round alike. */
+ * vectors where the machine has them. No FMA: both versions round alike.
+ * Not under ThreadSanitizer: the clones of a static function are chosen
+ * while the library is relocated, before that sanitizer's runtime is up,
+ * and the choice crashes there. */
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) &&    \
-    defined(__linux__)
+    defined(__linux__) && !defined(__SANITIZE_THREAD__)
 #define TP_VECTOR_CLONES __attribute__((target_clones("avx2", "default")))
 #else
 #define TP_VECTOR_CLONES
