@@ -313,13 +313,6 @@ int tp_taylor2(tp_ws *ws, const double *x, const double *d, double *y,
     return st;
 }
 
-#if defined(__GNUC__)
-#define TP_INLINE static inline __attribute__((always_inline))
-#define TP_NOINLINE __attribute__((noinline))
-#else
-#define TP_INLINE static inline
-#define TP_NOINLINE
-#endif
 
 /* M's columns c0 .. c0 + pc - 1 and h's entries from H, the Hessian
  * columns of one chunk of rate directions (rows: d/dq (n), then d/dqd

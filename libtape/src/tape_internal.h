@@ -68,12 +68,19 @@ size_t tp__mulsz(size_t a, size_t b);
 
 /* ---- recording contexts (rec.c) --------------------------------------- */
 
-/* The error path of a function called for every op: kept out of line, so
- * that the common path saves no registers for it. */
+/* Inlining where it decides speed: TP_COLD for the error path of a
+ * function called for every op (kept out of line, so that the common
+ * path saves no registers for it); TP_INLINE for a body specialized by
+ * its callers' constants; TP_NOINLINE for a function that must save only
+ * the registers it uses itself. */
 #if defined(__GNUC__)
 #define TP_COLD __attribute__((noinline, cold))
+#define TP_INLINE static inline __attribute__((always_inline))
+#define TP_NOINLINE __attribute__((noinline))
 #else
 #define TP_COLD
+#define TP_INLINE static inline
+#define TP_NOINLINE
 #endif
 
 /* What a backend implements. Ids are the backend's indices of values; the

@@ -54,7 +54,7 @@ typedef struct tp_tuple {
     uint32_t *opu, *opt; /* operands of the op that made the id, or NO_ID */
     uint32_t *last;     /* the planner's: last op reading the id */
     uint32_t *stack;    /* the planner's: free slots */
-    size_t count, cap_ids;
+    size_t cap_ids;     /* (this run's ids: base.n_ids) */
     /* derivative parts, [cap_slots * nd], then owner [cap_slots] */
     double *pool;
     uint32_t *owner; /* the id whose derivatives a slot holds */
@@ -85,7 +85,7 @@ static void id_arrays(tp_tuple *U, void *block, size_t cap)
 }
 
 /* Grow the per-id block to hold at least need ids, keeping every entry
- * (the plan's reach beyond this run's count). */
+ * (the plan's reach beyond this run's ids). */
 static bool grow_ids(tp_tuple *U, size_t need)
 {
     const tp_allocator *al = &U->base.al;
@@ -146,7 +146,7 @@ static bool grow_slots(tp_tuple *U, size_t need)
 static uint32_t new_id_off_plan(tp_tuple *U, uint32_t u, uint32_t t,
                                 bool has_deriv)
 {
-    const size_t k = U->count;
+    const size_t k = U->base.n_ids;
     uint32_t s = NO_DERIV;
     if (k >= U->cap_ids) {
         if (k >= TP_MAX_OPS) {
@@ -167,7 +167,6 @@ static uint32_t new_id_off_plan(tp_tuple *U, uint32_t u, uint32_t t,
         U->owner[s] = (uint32_t)k;
     }
     U->slot[k] = s;
-    U->count = k + 1;
     U->base.n_ids = (uint32_t)(k + 1);
     return (uint32_t)k;
 }
@@ -179,7 +178,7 @@ static uint32_t new_id_off_plan(tp_tuple *U, uint32_t u, uint32_t t,
 static inline uint32_t new_id(tp_tuple *U, uint32_t u, uint32_t t,
                               bool has_deriv)
 {
-    const size_t k = U->count;
+    const size_t k = U->base.n_ids;
     uint32_t s;
     if (U->diverged || k >= U->plan_len || U->opu[k] != u ||
         U->opt[k] != t || ((s = U->plan[k]) != NO_DERIV) != has_deriv)
@@ -187,7 +186,6 @@ static inline uint32_t new_id(tp_tuple *U, uint32_t u, uint32_t t,
     U->slot[k] = s;
     if (s != NO_DERIV)
         U->owner[s] = (uint32_t)k;
-    U->count = k + 1;
     U->base.n_ids = (uint32_t)(k + 1);
     return (uint32_t)k;
 }
@@ -204,7 +202,6 @@ static int tu_begin(tp_rec *base, const double *x)
 {
     tp_tuple *U = (tp_tuple *)base;
     size_t i;
-    U->count = 0;
     base->n_ids = 0;
     U->diverged = U->plan_len == 0;
     U->conflict = false;
@@ -401,7 +398,7 @@ static double tu_value(const tp_rec *base, uint32_t id)
  * frees its slot at once. */
 static void make_plan(tp_tuple *U)
 {
-    const size_t cnt = U->count;
+    const size_t cnt = U->base.n_ids;
     uint32_t *last = U->last, *stack = U->stack, *plan = U->plan;
     size_t k, top = 0, used = 0;
     for (k = 0; k < cnt; k++)
@@ -454,7 +451,7 @@ static int tu_end(tp_rec *base)
             return 1;
         }
     }
-    if (U->diverged || U->count != U->plan_len)
+    if (U->diverged || base->n_ids != U->plan_len)
         make_plan(U);
     return 0;
 }
