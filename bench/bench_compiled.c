@@ -1,6 +1,8 @@
 /* bench_compiled.c - compiled tapes (eom_system_set_compiled) against the
  * interpreter and the hand-coded equations, on the chains of the element
- * library (the same chains as bench-rhs: unequal links, gravity, open):
+ * library (the same chains as bench-rhs: unequal links, gravity, open;
+ * and closed, the tip pinned at 0.9 of the chain's length, so that the
+ * constraints' Jacobian and gamma run compiled too):
  *
  *   - set-up: recording (eom_system_new), then compiling every tape into a
  *     fresh cache (emit + compile + load + check, cold), and again from
@@ -23,6 +25,7 @@
 
 #include "bench_util.h"
 #include "chain_unequal.h"
+#include "eom/chain.h"
 
 typedef struct ctx {
     eom_system *s;
@@ -43,21 +46,47 @@ static void call_hand(void *p)
     chain_plain_hand_rhs(c->hand, c->x, c->qdd);
 }
 
-static eom_system *make(chain_plain *cp, int links, int modes, double *mv,
-                        double *Lv, double *EIv)
+/* The closed chain of cp's links: the open one's spec with its tip
+ * pinned at (D, 0), D 0.9 of the links' total length. */
+static int closed_model(const chain_plain *cp, eom_model **out)
+{
+    eom_chain_spec sp;
+    int rc, j;
+    memset(&sp, 0, sizeof sp);
+    sp.links = cp->links;
+    sp.modes_all = cp->modes;
+    sp.m_link = cp->m;
+    sp.L_link = cp->L;
+    sp.EI_link = cp->EI;
+    sp.g = cp->g;
+    sp.closed = 1;
+    for (j = 0; j < cp->links; j++)
+        sp.D += 0.9 * cp->L[j];
+    if ((rc = eom_model_new(out)) != EOM_OK)
+        return rc;
+    if ((rc = eom_chain_add(*out, &sp)) < 0) {
+        eom_model_free(out);
+        return rc;
+    }
+    return EOM_OK;
+}
+
+static eom_system *make(chain_plain *cp, int links, int modes, int closed,
+                        double *mv, double *Lv, double *EIv)
 {
     eom_model *m = NULL;
     eom_system *s = NULL;
     char msg[256] = "";
     chain_unequal(cp, links, modes, mv, Lv, EIv);
-    if (chain_unequal_model(cp, &m) != EOM_OK ||
+    if ((closed ? closed_model(cp, &m) : chain_unequal_model(cp, &m)) !=
+            EOM_OK ||
         eom_system_new(&s, m, msg, sizeof msg) != EOM_OK)
         fprintf(stderr, "bench-compiled: set-up failed: %s\n", msg);
     eom_model_free(&m);
     return s;
 }
 
-static void row(int links, int modes, int reps)
+static void row(int links, int modes, int closed, int reps)
 {
     double mv[64], Lv[64], EIv[64], t0, t_rec, t_cold, t_warm;
     double rc[64], rh[64], ti[64], tc[64], th[64], diff = 0.0;
@@ -70,7 +99,7 @@ static void row(int links, int modes, int reps)
     double *xdi;
 
     t0 = bench_now();
-    s = make(&cp, links, modes, mv, Lv, EIv);
+    s = make(&cp, links, modes, closed, mv, Lv, EIv);
     t_rec = bench_now() - t0;
     if (!s)
         return;
@@ -79,13 +108,13 @@ static void row(int links, int modes, int reps)
     st = eom_system_set_compiled(s, 1, &cold);
     t_cold = bench_now() - t0;
     if (st != EOM_OK) {
-        printf("| %d x %d | compiled tapes unavailable: %s |\n", links, modes,
-               eom_system_errmsg(s));
+        printf("| %d x %d%s | compiled tapes unavailable: %s |\n", links,
+               modes, closed ? ", closed" : "", eom_system_errmsg(s));
         eom_system_free(&s);
         return;
     }
     /* a second system: its tapes are found in the cache */
-    s2 = make(&cp, links, modes, mv, Lv, EIv);
+    s2 = make(&cp, links, modes, closed, mv, Lv, EIv);
     t0 = bench_now();
     eom_system_set_compiled(s2, 1, &warm);
     t_warm = bench_now() - t0;
@@ -107,7 +136,7 @@ static void row(int links, int modes, int reps)
     ch = ci;
     ch.hand = NULL;
     ch.qdd = ci.x + 4 * n;
-    if (modes == 0 && chain_plain_hand_new(&ch.hand, &cp) != 0)
+    if (modes == 0 && !closed && chain_plain_hand_new(&ch.hand, &cp) != 0)
         ch.hand = NULL;
     {
         const long bi = bench_calibrate(call_rhs, &ci, 0.01);
@@ -120,8 +149,12 @@ static void row(int links, int modes, int reps)
             rh[k] = tc[k] / th[k];
         }
     }
-    snprintf(label, sizeof label, modes ? "%d links x %d modes" : "%d rigid links",
-             links, modes);
+    if (modes)
+        snprintf(label, sizeof label, "%d links x %d modes%s", links, modes,
+                 closed ? ", closed" : "");
+    else
+        snprintf(label, sizeof label, "%d rigid links%s", links,
+                 closed ? ", closed" : "");
     printf("| %s | %d | %.3g | %.3g | %.3g | %zu | %.3g | %.3g | %.2f | %s | "
            "%.1e |\n",
            label, n, 1e3 * t_rec, t_cold, 1e3 * t_warm, cold.source_bytes,
@@ -144,6 +177,7 @@ int main(int argc, char **argv)
 {
     static const int rigid[] = {2, 5, 10, 20, 50};
     static const int flex[][2] = {{3, 2}, {10, 2}, {20, 3}, {50, 3}};
+    static const int closed[][2] = {{5, 0}, {5, 3}, {20, 0}};
     char dir[] = "/tmp/bench-compiled-XXXXXX", cmd[128];
     int quick = 0, reps = 15, k;
     for (k = 1; k < argc; k++) {
@@ -173,9 +207,11 @@ int main(int argc, char **argv)
            "interpreted / compiled | compiled / hand-coded | difference |\n"
            "|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (k = 0; k < (quick ? 2 : 5); k++)
-        row(rigid[k], 0, reps);
+        row(rigid[k], 0, 0, reps);
     for (k = 0; k < (quick ? 1 : 4); k++)
-        row(flex[k][0], flex[k][1], reps);
+        row(flex[k][0], flex[k][1], 0, reps);
+    for (k = 0; k < (quick ? 1 : 3); k++)
+        row(closed[k][0], closed[k][1], 1, reps);
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
     if (system(cmd) != 0)
         fprintf(stderr, "bench-compiled: could not remove %s\n", dir);

@@ -8,7 +8,11 @@
  *      tp_lagrange_t (L, dL/dq, dL/dt, M, h: the compiled Lagrange
  *      block), tp_eval (the value sweep) and tp_vjp with several weights
  *      (the gradient sweep); sweeps that stay interpreted (tp_jacobian,
- *      tp_hvp) on the same workspace. The same with changed parameters.
+ *      tp_hvp, tp_taylor2) on the same workspace. The same with changed
+ *      parameters. Then compiled with every sweep on workspaces as wide
+ *      as the independents: also tp_jacobian over all of them (the
+ *      Jacobian block; other columns after it stay interpreted) and
+ *      tp_taylor2 (the Taylor sweep).
  *   2. The cache: a second compile loads without compiling; other flags
  *      give another entry; a corrupt object, a foreign entry and a
  *      truncated checksum are detected and rebuilt, never loaded; a
@@ -19,7 +23,7 @@
  *      some sweeps compiled (tp_compile_opts.sweeps): the source has those
  *      alone, and the others run interpreted with the same results.
  *   4. Misuse: a compiled tape on a workspace of another tape or width;
- *      sweeps with an unknown bit.
+ *      sweeps with an unknown bit; a Jacobian block wider than max_dirs.
  */
 #define _POSIX_C_SOURCE 200809L
 
@@ -90,6 +94,9 @@ static int rec_every_op(tp_rec *r, void *user)
     T = tp_add(r, T, tp_mul(r, e, tp_addc(r, tp_sqr(r, qd[0]), 1.0)));
     V = tp_mul(r, m, tp_sub(r, tp_mulc(r, b, -9.81), tp_sqr(r, q[2])));
     V = tp_add(r, V, tp_mul(r, tp_mulc(r, q[1], 3.0), t));
+    /* ADD and SUB with a passive operand on either side */
+    V = tp_add(r, V, tp_mul(r, tp_sub(r, m, tp_mul(r, q[0], q[1])),
+                            tp_sub(r, tp_add(r, m, tp_sqr(r, q[2])), m)));
     tp_output(r, "L", tp_sub(r, T, V));
     tp_output(r, "T", T);
     tp_output(r, "V", V);
@@ -134,17 +141,22 @@ static void compare_paths(tp_ws *wi, tp_ws *wc, rng *g, int states)
 {
     int s, k;
     for (s = 0; s < states; s++) {
-        /* L, dL/dt, dL/dq, h, M, y, gradient, Jacobian, Hessian column */
-        double x[NX], r[2][2 + 2 * NQ + NQ * NQ + 3 + NX + 3 * NX + NX];
+        /* L, dL/dt, dL/dq, h, M, y, gradient, Jacobian, Hessian column,
+         * Taylor coefficients (y, y1, y2), the Jacobian's rate columns */
+        double x[NX], r[2][2 + 2 * NQ + NQ * NQ + 3 + NX + 3 * NX + NX +
+                           9 + 3 * NQ];
+        double dir[NX];
         tp_ws *w[2];
         memset(r, 0, sizeof r);
         w[0] = wi;
         w[1] = wc;
         random_state(g, x);
+        random_state(g, dir);
         for (k = 0; k < 2; k++) {
             double *L = r[k], *dt = L + 1, *gq = dt + 1, *h = gq + NQ,
                    *M = h + NQ, *y = M + NQ * NQ, *gr = y + 3,
-                   *J = gr + NX, *HS = J + 3 * NX;
+                   *J = gr + NX, *HS = J + 3 * NX, *ty = HS + NX,
+                   *Jr = ty + 9;
             const double wt[3] = {1.0, -0.5 + s * 0.1, 2.0};
             double S[NX * 1];
             int i;
@@ -156,7 +168,12 @@ static void compare_paths(tp_ws *wi, tp_ws *wc, rng *g, int states)
             CHECK_INT(tp_vjp(w[k], x, wt, NULL, gr), TP_OK);
             CHECK_INT(tp_lagrange_t(w[k], x, 0, L, gq, dt, M, h), TP_OK);
             CHECK_INT(tp_jacobian(w[k], x, 0, NX, NULL, J), TP_OK);
+            /* other columns than the compiled Jacobian block's: the
+             * interpreter, on the rows the block left (it must leave the
+             * record of which rows may be non-zero right) */
+            CHECK_INT(tp_jacobian(w[k], x, NQ, NQ, NULL, Jr), TP_OK);
             CHECK_INT(tp_hvp(w[k], x, wt, 1, S, NULL, HS), TP_OK);
+            CHECK_INT(tp_taylor2(w[k], x, dir, ty, ty + 3, ty + 6), TP_OK);
         }
         same(r[1], r[0], (int)(sizeof r[0] / sizeof(double)));
     }
@@ -206,6 +223,26 @@ static void every_op(const char *dir)
     tp_ws_free(&wc);
     tp_compiled_free(&c);
     CHECK(c == NULL);
+    /* every sweep, on workspaces as wide as the independents: the
+     * Jacobian block and the Taylor sweep too */
+    o.max_dirs = NX;
+    o.sweeps = TP_SWEEP_VALUES | TP_SWEEP_GRADIENTS | TP_SWEEP_LAGRANGE |
+               TP_SWEEP_JACOBIAN | TP_SWEEP_TAYLOR2;
+    CHECK_INT(tp_compile(t, &o, &c, &info), TP_OK);
+    if (!c)
+        fprintf(stderr, "tp_compile: %s\n", info.msg);
+    CHECK_INT(tp_ws_new(&wi, t, NX, NULL), TP_OK);
+    CHECK_INT(tp_ws_new(&wc, t, NX, NULL), TP_OK);
+    if (c) {
+        CHECK_INT(tp_ws_set_compiled(wc, c), TP_OK);
+        compare_paths(wi, wc, &g, 40);
+        CHECK_INT(tp_ws_set_param(wi, 0, -1.5), TP_OK);
+        CHECK_INT(tp_ws_set_param(wc, 0, -1.5), TP_OK);
+        compare_paths(wi, wc, &g, 10);
+    }
+    tp_ws_free(&wi);
+    tp_ws_free(&wc);
+    tp_compiled_free(&c);
     tp_tape_free(&t);
 }
 
@@ -348,8 +385,11 @@ static void parts_and_sweeps(const char *dir)
     compiled_against_interpreter(t2, &o, 1, "rev1\0", "fwd0\0lagrange\0",
                                  10);
     o.sweeps = TP_SWEEP_LAGRANGE;
-    compiled_against_interpreter(t2, &o, 1, "lagrange\0", "fwd0\0rev1\0",
-                                 10);
+    compiled_against_interpreter(t2, &o, 1, "lagrange\0",
+                                 "fwd0\0rev1\0jacobian\0taylor2\0", 10);
+    o.sweeps = TP_SWEEP_TAYLOR2;
+    compiled_against_interpreter(t2, &o, 1, "taylor2\0",
+                                 "fwd0\0rev1\0lagrange\0jacobian\0", 10);
     tp_tape_free(&t);
     tp_tape_free(&t2);
 }
@@ -539,10 +579,16 @@ static void misuse(const char *dir)
         CHECK(d == NULL);
     }
     CHECK_INT(tp_compile(t, &o, NULL, &info), TP_ERR_NULL);
-    o.sweeps = 8u; /* no such sweep */
+    o.sweeps = 32u; /* no such sweep */
     CHECK_INT(tp_compile(t, &o, &c, &info), TP_ERR_SIZE);
     CHECK(c == NULL);
     CHECK(strstr(info.msg, "sweeps") != NULL);
+    /* the Jacobian block over more independents than directions */
+    o.sweeps = TP_SWEEP_JACOBIAN;
+    o.max_dirs = 1;
+    CHECK_INT(tp_compile(t2, &o, &c, &info), TP_ERR_SIZE);
+    CHECK(c == NULL);
+    CHECK(strstr(info.msg, "max_dirs") != NULL);
     tp_compiled_free(NULL);
     tp_tape_free(&t);
     tp_tape_free(&t2);

@@ -11,15 +11,16 @@
 #include "eom_internal.h"
 
 /* Where a tape is checked against the interpreter: the initial state
- * (q, qd, t = 0). */
+ * (q, qd, t = 0; the constraints' tape has (q) or (q, t)). */
 static void check_point(const eom_system *s, const eom_tape *et, double *x)
 {
     const int ni = tp_tape_n_indep(et->tape), n = s->n;
     int i;
     for (i = 0; i < ni; i++)
-        x[i] = i < n       ? s->coords[i].v0
-               : i < 2 * n ? s->coords[i - n].v1
-                           : 0.0;
+        x[i] = i == et->tindex ? 0.0
+               : i < n         ? s->coords[i].v0
+               : i < 2 * n     ? s->coords[i - n].v1
+                               : 0.0;
 }
 
 /* Point s's workspaces at the shared compiled tapes (on) or back to the
@@ -72,10 +73,10 @@ int eom_system_set_compiled(eom_system *s, int on,
         tp_compile_info ci;
         tp_compile_opts o;
         int st;
-        /* the residual tape serves Jacobians and the constraints' tape
-         * C and gamma: their sweeps (directions over every op, Taylor
-         * coefficients) stay on the interpreter, nothing to gain */
-        if (!t[k]->tape || k == 4 || k == 5)
+        /* the residual tape serves the implicit integrators' Jacobians
+         * (seeded directions over every op, a few calls per step): it
+         * stays on the interpreter */
+        if (!t[k]->tape || k == 5)
             continue;
         info->tapes++;
         if (s->shared->cc[k]) {
@@ -91,9 +92,13 @@ int eom_system_set_compiled(eom_system *s, int on,
         o.lagrange = k == 0 && t[k]->dirs >= s->n;
         /* only the sweeps the evaluations run (each costs compile time):
          * L through tp_lagrange, R's gradient, the values of E (with the
-         * probes) and Q; the rarer calls (a gradient of L for the power of
-         * a rheonomic model, the linearization's Hessians) interpret */
-        o.sweeps = o.lagrange        ? TP_SWEEP_LAGRANGE
+         * probes) and Q, the constraints' Jacobian (C, with dphi/dt when
+         * the time is an independent: its workspace is as wide as its
+         * independents) and their Taylor sweep (the velocity residual and
+         * gamma); the rarer calls (a gradient of L for the power of a
+         * rheonomic model, the linearization's Hessians) interpret */
+        o.sweeps = o.lagrange         ? TP_SWEEP_LAGRANGE
+                   : k == 4           ? TP_SWEEP_JACOBIAN | TP_SWEEP_TAYLOR2
                    : k == 1 || k == 3 ? TP_SWEEP_VALUES
                                       : TP_SWEEP_VALUES | TP_SWEEP_GRADIENTS;
         st = tp_compile(t[k]->tape, &o, &s->shared->cc[k], &ci);

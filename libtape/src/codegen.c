@@ -17,10 +17,13 @@
  *     functions of at most CHUNK ops (the compiler's time grows faster
  *     than linearly in a function's size) and an exported entry
  *     tpc_<sweep>(kx, end);
- *   - optionally the Lagrange block (codegen_lagrange.c), where the
- *     direction rows are: sweeps with rows compiled op by op through the
- *     generic kernels were no faster than the interpreter;
- *   - tpc_format, tpc_nops, tpc_kx_size and tpc_P, read back on load.
+ *   - optionally the direction blocks (codegen_lagrange.c: the Lagrange
+ *     block, the Jacobian block), where the direction rows are: sweeps
+ *     with rows compiled op by op through the generic kernels were no
+ *     faster than the interpreter;
+ *   - optionally the Taylor sweep (codegen_taylor.c);
+ *   - tpc_format, tpc_nops, tpc_kx_size, tpc_P and tpc_sweeps, read back
+ *     on load.
  * A sweep may stop at `end` (one past the last slot a caller needs):
  * forward chunks return where end can fall (past an output), reverse
  * chunks jump to where it starts. Ops above end have zero adjoints, so a
@@ -221,9 +224,15 @@ int tp__emit_c(const tp_tape *T, int P, int lagrange_out, unsigned sweeps,
     for (s = 0; s < SW_COUNT; s++)
         if (sweeps & sweep_bit[s])
             emit_sweep(b, T, ep, (enum sweep)s);
+    if (lagrange_out >= 0 || (sweeps & TP_SWEEP_JACOBIAN))
+        tp__emit_blocks_common(P, b);
     if (lagrange_out >= 0)
         st = tp__emit_lagrange(T, lagrange_out, (int)T->n_indep / 2,
                                (int)T->n_indep / 2, P, b);
+    if (st == TP_OK && (sweeps & TP_SWEEP_JACOBIAN))
+        st = tp__emit_jacobian(T, 0, (int)T->n_indep, P, b);
+    if (st == TP_OK && (sweeps & TP_SWEEP_TAYLOR2))
+        st = tp__emit_taylor2(T, b);
     tp__sbuf_printf(b,
                     "#if TPC_PART == 0\n"
                     "TPC_EXPORT const int tpc_format = %d;\n"
@@ -233,7 +242,8 @@ int tp__emit_c(const tp_tape *T, int P, int lagrange_out, unsigned sweeps,
                     "TPC_EXPORT const unsigned tpc_sweeps = %uu;\n"
                     "#endif\n",
                     TP_CODEGEN_FORMAT, T->n_ops, P,
-                    sweeps & (TP_SWEEP_VALUES | TP_SWEEP_GRADIENTS));
+                    sweeps & (TP_SWEEP_VALUES | TP_SWEEP_GRADIENTS |
+                              TP_SWEEP_JACOBIAN | TP_SWEEP_TAYLOR2));
     free(ep);
     return b->failed ? TP_ERR_NOMEM : st;
 }

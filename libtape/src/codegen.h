@@ -12,7 +12,7 @@
 
 /* Bumped whenever the generated source's interface changes (the entry
  * points, tp_kx); part of the cache key and checked on load. */
-#define TP_CODEGEN_FORMAT 2
+#define TP_CODEGEN_FORMAT 3
 
 /* A growing string; after a failed allocation `failed` is set and further
  * appends do nothing. */
@@ -34,14 +34,20 @@ void tp__sbuf_free(tp_sbuf *b);
  * tape_ops.h, op_math.h and sweep_ops.h). */
 extern const char *const tp__kernel_text[];
 
-/* The C source of tape T, appended to b: TP_OK or TP_ERR_NOMEM (or
- * tp__emit_lagrange's TP_ERR_SIZE). P is the row width the workspaces
- * will have (a multiple of TP_LANES, 0: unknown); sweeps says which of
- * the value (tpc_fwd0) and gradient (tpc_rev1) sweeps to include
- * (TP_SWEEP_VALUES, TP_SWEEP_GRADIENTS); with lagrange_out >= 0 the
- * Lagrange block of that output is included too (it needs P). */
+/* The C source of tape T, appended to b: TP_OK or TP_ERR_NOMEM (or the
+ * blocks' TP_ERR_SIZE). P is the row width the workspaces will have (a
+ * multiple of TP_LANES, 0: unknown); sweeps says which of the value
+ * (tpc_fwd0) and gradient (tpc_rev1) sweeps, the Jacobian block over
+ * every independent (tpc_jacobian, it needs P) and the Taylor sweep
+ * (tpc_taylor2) to include (TP_SWEEP_VALUES, _GRADIENTS, _JACOBIAN,
+ * _TAYLOR2); with lagrange_out >= 0 the Lagrange block of that output is
+ * included too (it needs P). */
 int tp__emit_c(const tp_tape *T, int P, int lagrange_out, unsigned sweeps,
                tp_sbuf *b);
+
+/* What the blocks below share (the row width PW, the row functions, the
+ * row macros and chunk arguments), emitted once before them. */
+void tp__emit_blocks_common(int P, tp_sbuf *b);
 
 /* The Lagrange block of output out (codegen_lagrange.c): the function
  * tpc_lagrange(v, aux, tan, at, adj, g, H) giving the output's gradient g
@@ -50,6 +56,20 @@ int tp__emit_c(const tp_tape *T, int P, int lagrange_out, unsigned sweeps,
  * the block is not made of whole dependency groups. */
 int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
                       int P, tp_sbuf *b);
+
+/* The Jacobian block (codegen_lagrange.c): the function
+ * tpc_jacobian(v, aux, tan) giving the values of every output's cone and
+ * the tangent rows of those of its ops that depend on a seeded group,
+ * for unit directions on the independents first .. first + count - 1
+ * (whole dependency groups, else TP_ERR_SIZE), rows P wide. */
+int tp__emit_jacobian(const tp_tape *T, int first, int count, int P,
+                      tp_sbuf *b);
+
+/* The Taylor sweep (codegen_taylor.c): the function
+ * tpc_taylor2(v, aux, d1, d2, dir) giving the values and the first and
+ * second Taylor coefficients along dir of every output's cone, as
+ * tp__taylor2 does. */
+int tp__emit_taylor2(const tp_tape *T, tp_sbuf *b);
 
 /* A chunk function (a run of a sweep's ops) opens with its prototype sig
  * ("void lg_3(LG_ARGS)") and its definition, compiled only in part
@@ -74,6 +94,9 @@ const char *tp__op_fn_name(unsigned op);
 typedef void (*tp_lagrange_fn)(double *v, double *aux, double *tan,
                                double *at, double *adj, double *g,
                                double *H);
+typedef void (*tp_jacobian_fn)(double *v, double *aux, double *tan);
+typedef void (*tp_taylor2_fn)(double *v, double *aux, double *d1,
+                              double *d2, const double *dir);
 
 /* The entry points of a loaded compiled tape: each runs one sweep's ops
  * from first_active up to end (forward) or from end - 1 down (reverse). */
@@ -83,13 +106,19 @@ struct tp_compiled {
     const tp_tape *t; /* the tape it was made from */
     void *dl;         /* dlopen handle */
     int P;            /* row width it was made for, 0: any */
-    unsigned sweeps;  /* TP_SWEEP_VALUES, _GRADIENTS it has */
+    unsigned sweeps;  /* TP_SWEEP_VALUES, _GRADIENTS, _JACOBIAN, _TAYLOR2 */
     tp_kernel_fn fwd0, rev1; /* NULL for a sweep it does not have */
     /* the Lagrange block, or NULL: output lout, unit directions on the
      * independents lfirst .. lfirst + lcount - 1, seeded groups lmask */
     tp_lagrange_fn lagrange;
     int lout, lfirst, lcount;
     unsigned lmask;
+    /* the Jacobian block, or NULL: unit directions on the independents
+     * jfirst .. jfirst + jcount - 1, seeded groups jmask */
+    tp_jacobian_fn jacobian;
+    int jfirst, jcount;
+    unsigned jmask;
+    tp_taylor2_fn taylor2; /* the Taylor sweep, or NULL */
 };
 
 #endif /* TAPE_CODEGEN_H */

@@ -1,10 +1,14 @@
-/* codegen_lagrange.c - the Lagrange block of a compiled tape: one output's
- * gradient and its Hessian columns for unit directions on a block of
- * independents (for a Lagrangian: dL/dx and d2L/dx dqd, from which
- * tp_lagrange forms M and h), as straight-line C specialized to the tape.
+/* codegen_lagrange.c - the direction blocks of a compiled tape, as
+ * straight-line C specialized to the tape:
+ *   - the Lagrange block: one output's gradient and its Hessian columns
+ *     for unit directions on a block of independents (for a Lagrangian:
+ *     dL/dx and d2L/dx dqd, from which tp_lagrange forms M and h);
+ *   - the Jacobian block: every output's value and tangent row for unit
+ *     directions on a block of independents (tp_jacobian; for the
+ *     constraints: phi and C, with dphi/dt when the time is one).
  *
  * What the interpreter decides while sweeping, this decides once while
- * writing the code: which ops the output needs (its cone), which tangent
+ * writing the code: which ops the outputs need (their cone), which tangent
  * rows are structurally zero (the op depends on no seeded group), which
  * adjoint-tangent rows have been reached (the interpreter's anz flags),
  * and where each adjoint and row is first written, so the code assigns
@@ -36,6 +40,7 @@ typedef struct lg {
     unsigned char *an;   /* the interpreter's anz: row path taken above */
     unsigned char *rw;   /* the adjoint-tangent row holds data */
     unsigned char *aw;   /* the adjoint holds data */
+    const char *prefix;  /* of the block's chunk functions: lg_0, ... */
 } lg;
 
 /* One term of a row update: coef * (row src). */
@@ -392,15 +397,15 @@ static void emit_reverse(lg *g, uint32_t i)
     tp__sbuf_puts(g->b, "}\n");
 }
 
-/* ---- the function ------------------------------------------------------ */
+/* ---- the functions ----------------------------------------------------- */
 
-/* The cone of output slot o: ops whose value it needs (and the partners
- * whose sine or cosine a paired op reads). */
-static void cone(const tp_tape *T, uint32_t o, unsigned char *need)
+/* The cone of the ops marked in need at or below top: every op whose
+ * value they need (and the partners whose sine or cosine a paired op
+ * reads), marked in need too. */
+static void cone(const tp_tape *T, uint32_t top, unsigned char *need)
 {
     uint32_t i;
-    need[o] = 1;
-    for (i = o + 1; i-- > T->first_active;) {
+    for (i = top + 1; i-- > T->first_active;) {
         const unsigned op = T->opc[i];
         if (!need[i])
             continue;
@@ -422,7 +427,8 @@ static void chunk_op(lg *g, int *nchunk, int *inchunk, bool reverse,
 {
     if (*inchunk == 0) {
         char sig[64];
-        snprintf(sig, sizeof sig, "void lg_%d(LG_ARGS)", *nchunk);
+        snprintf(sig, sizeof sig, "void %s_%d(LG_ARGS)", g->prefix,
+                 *nchunk);
         tp__chunk_begin(g->b, (unsigned)(*nchunk)++, sig);
         tp__sbuf_puts(g->b, "LG_BEGIN\n");
     }
@@ -443,33 +449,58 @@ static void chunk_close(lg *g, int *inchunk)
     *inchunk = 0;
 }
 
-int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
-                      int P, tp_sbuf *b)
+/* The seeded groups of unit directions on independents first .. first +
+ * count - 1 into *mask: TP_ERR_SIZE unless they are whole groups (rows of
+ * other independents of a seeded group would have to be zero rows). */
+static int block_mask(const tp_tape *T, int first, int count, unsigned *mask)
 {
-    const uint32_t o = T->out_slot[out], n = T->n_indep;
-    lg g;
     uint32_t i;
-    int k, nchunk = 0, inchunk = 0;
-    memset(&g, 0, sizeof g);
-    g.T = T;
-    g.b = b;
-    g.P = P;
+    int k;
+    *mask = 0;
     for (k = first; k < first + count; k++)
-        g.mask |= 1u << T->group[k];
-    /* the seeded block must be whole groups: rows of other independents
-     * of a seeded group would have to be zero rows */
-    for (i = 0; i < n; i++)
-        if ((g.mask >> T->group[i] & 1u) &&
+        *mask |= 1u << T->group[k];
+    for (i = 0; i < T->n_indep; i++)
+        if ((*mask >> T->group[i] & 1u) &&
             ((int)i < first || (int)i >= first + count))
             return TP_ERR_SIZE;
-    g.need = calloc(T->n_ops, 4);
-    if (!g.need)
+    return TP_OK;
+}
+
+/* A block's state for tape T, P wide, seeding independents first ..
+ * first + count - 1: TP_OK, TP_ERR_SIZE or TP_ERR_NOMEM. */
+static int lg_init(lg *g, const tp_tape *T, int first, int count, int P,
+                   const char *prefix, tp_sbuf *b)
+{
+    int st;
+    memset(g, 0, sizeof *g);
+    g->T = T;
+    g->b = b;
+    g->P = P;
+    g->prefix = prefix;
+    if ((st = block_mask(T, first, count, &g->mask)) != TP_OK)
+        return st;
+    g->need = calloc(T->n_ops, 4);
+    if (!g->need)
         return TP_ERR_NOMEM;
-    g.an = g.need + T->n_ops;
-    g.rw = g.an + T->n_ops;
-    g.aw = g.rw + T->n_ops;
-    if (o >= T->first_active)
-        cone(T, o, g.need);
+    g->an = g->need + T->n_ops;
+    g->rw = g->an + T->n_ops;
+    g->aw = g->rw + T->n_ops;
+    return TP_OK;
+}
+
+/* Unit seeds on the rows of independents first .. first + count - 1 (a
+ * loop: written out, they were a tenth of the source). */
+static void emit_seeds(tp_sbuf *b, int first, int count, int P)
+{
+    tp__sbuf_printf(b,
+                    "for (int k_ = 0; k_ < %d; k_++) {\n"
+                    "    memset(T_(%d + k_), 0, %d * sizeof(double));\n"
+                    "    T_(%d + k_)[k_] = 1.0;\n}\n",
+                    count, first, P, first);
+}
+
+void tp__emit_blocks_common(int P, tp_sbuf *b)
+{
     tp__sbuf_printf(b, "#define PW %d\n", P);
     emit_row_functions(b);
     tp__sbuf_puts(b,
@@ -481,6 +512,22 @@ int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
                   "#define LG_BEGIN tp_kx y; tp_partials d; "
                   "memset(&y, 0, sizeof y); y.K = K; y.v = v; y.aux = aux; "
                   "(void)d; (void)tan; (void)at; (void)adj;\n");
+}
+
+int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
+                      int P, tp_sbuf *b)
+{
+    const uint32_t o = T->out_slot[out], n = T->n_indep;
+    lg g;
+    uint32_t i;
+    int k, nchunk = 0, inchunk = 0;
+    int st = lg_init(&g, T, first, count, P, "lg", b);
+    if (st != TP_OK)
+        return st;
+    if (o >= T->first_active) {
+        g.need[o] = 1;
+        cone(T, o, g.need);
+    }
     /* forward over the cone, then reverse from the output */
     for (i = T->first_active; i <= o && o >= T->first_active; i++)
         if (g.need[i])
@@ -494,12 +541,7 @@ int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
     tp__sbuf_puts(b, "#if TPC_PART == 0\n"
                      "TPC_EXPORT void tpc_lagrange(LG_ARGS, double *restrict "
                      "gr, double *restrict H)\n{\n");
-    /* unit seeds (a loop: written out, they were a tenth of the source) */
-    tp__sbuf_printf(b,
-                    "for (int k_ = 0; k_ < %d; k_++) {\n"
-                    "    memset(T_(%d + k_), 0, %d * sizeof(double));\n"
-                    "    T_(%d + k_)[k_] = 1.0;\n}\n",
-                    count, first, P, first);
+    emit_seeds(b, first, count, P);
     tp__sbuf_printf(b, "adj[%u] = 1.0;\n", o);
     for (k = 0; k < nchunk; k++)
         tp__sbuf_printf(b, "lg_%d(v, aux, tan, at, adj);\n", k);
@@ -519,8 +561,47 @@ int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
     tp__sbuf_printf(b,
                     "(void)v;\n(void)aux;\n}\n"
                     "TPC_EXPORT const int tpc_lagrange_shape[4] = "
-                    "{%d, %d, %d, %d};\n#endif\n#undef T_\n#undef A_\n",
+                    "{%d, %d, %d, %d};\n#endif\n",
                     out, first, count, P);
+    free(g.need);
+    return b->failed ? TP_ERR_NOMEM : TP_OK;
+}
+
+int tp__emit_jacobian(const tp_tape *T, int first, int count, int P,
+                      tp_sbuf *b)
+{
+    lg g;
+    uint32_t i, o, top = 0;
+    bool any = false;
+    int k, nchunk = 0, inchunk = 0;
+    int st = lg_init(&g, T, first, count, P, "jc", b);
+    if (st != TP_OK)
+        return st;
+    /* the cone of every output, forward once */
+    for (o = 0; o < T->n_out; o++)
+        if (T->out_slot[o] >= T->first_active) {
+            g.need[T->out_slot[o]] = 1;
+            any = true;
+            if (T->out_slot[o] > top)
+                top = T->out_slot[o];
+        }
+    if (any)
+        cone(T, top, g.need);
+    for (i = T->first_active; any && i <= top; i++)
+        if (g.need[i])
+            chunk_op(&g, &nchunk, &inchunk, false, i);
+    chunk_close(&g, &inchunk);
+    tp__sbuf_puts(b, "#if TPC_PART == 0\n"
+                     "TPC_EXPORT void tpc_jacobian(double *restrict v, "
+                     "double *restrict aux, double *restrict tan)\n{\n");
+    emit_seeds(b, first, count, P);
+    for (k = 0; k < nchunk; k++)
+        tp__sbuf_printf(b, "jc_%d(v, aux, tan, NULL, NULL);\n", k);
+    tp__sbuf_printf(b,
+                    "(void)v;\n(void)aux;\n}\n"
+                    "TPC_EXPORT const int tpc_jacobian_shape[3] = "
+                    "{%d, %d, %d};\n#endif\n",
+                    first, count, P);
     free(g.need);
     return b->failed ? TP_ERR_NOMEM : TP_OK;
 }

@@ -280,6 +280,17 @@ static int load(tp_compiled *c, const char *so, const char *key,
         *(void **)&c->fwd0 = dlsym(c->dl, "tpc_fwd0");
     if (c->sweeps & TP_SWEEP_GRADIENTS)
         *(void **)&c->rev1 = dlsym(c->dl, "tpc_rev1");
+    c->jacobian = NULL;
+    if (c->sweeps & TP_SWEEP_JACOBIAN) {
+        const int *shape = dlsym(c->dl, "tpc_jacobian_shape");
+        *(void **)&c->jacobian = dlsym(c->dl, "tpc_jacobian");
+        if (!shape || shape[0] != c->jfirst || shape[1] != c->jcount ||
+            shape[2] != c->P)
+            c->jacobian = NULL;
+    }
+    c->taylor2 = NULL;
+    if (c->sweeps & TP_SWEEP_TAYLOR2)
+        *(void **)&c->taylor2 = dlsym(c->dl, "tpc_taylor2");
     c->lagrange = NULL;
     if (c->lout >= 0) {
         const int *shape = dlsym(c->dl, "tpc_lagrange_shape");
@@ -291,6 +302,8 @@ static int load(tp_compiled *c, const char *so, const char *key,
     if (!format || !nops || !kxs || !k || !sweeps || *sweeps != c->sweeps ||
         (!c->fwd0 && (c->sweeps & TP_SWEEP_VALUES)) ||
         (!c->rev1 && (c->sweeps & TP_SWEEP_GRADIENTS)) ||
+        (!c->jacobian && (c->sweeps & TP_SWEEP_JACOBIAN)) ||
+        (!c->taylor2 && (c->sweeps & TP_SWEEP_TAYLOR2)) ||
         (c->lout >= 0 && !c->lagrange) || !P ||
         *P != c->P ||
         *format != TP_CODEGEN_FORMAT ||
@@ -327,20 +340,25 @@ static bool same(const double *a, const double *b, size_t n, const char *what,
 }
 
 /* Run the sweeps c compiles on both paths at x and compare: values,
- * gradients and, if c has it, the Lagrange block (the other sweeps stay
- * interpreted on either path). */
+ * gradients and, if c has them, the Lagrange block, the Jacobian block
+ * and the Taylor sweep (the other sweeps stay interpreted on either
+ * path). */
 static int check(const tp_compiled *c, const double *xin,
                  tp_compile_info *info)
 {
     const tp_tape *T = c->t;
     const int n = (int)T->n_indep, m = (int)T->n_out;
     const int nq = c->lagrange ? c->lcount : 0;
-    /* per path: y[m], g[n]; L, dL/dt, dL/dq[nq], h[nq], M[nq x nq] */
+    /* per path: y[m], g[n]; L, dL/dt, dL/dq[nq], h[nq], M[nq x nq];
+     * y[m], J[m x jcount]; y[m], y1[m], y2[m] */
     const size_t nl = c->lagrange ? 2 + 2 * (size_t)nq + (size_t)nq * nq : 0;
-    const size_t per = (size_t)m + (size_t)n + nl;
+    const size_t nj = c->jacobian ? (size_t)m * (1 + (size_t)c->jcount) : 0;
+    const size_t nt = c->taylor2 ? 3 * (size_t)m : 0;
+    const size_t per = (size_t)m + (size_t)n + nl + nj + nt;
     tp_ws *w[2] = {NULL, NULL};
-    double *x = calloc((size_t)n + (size_t)m + 2 * per + 1, sizeof(double));
-    double *wt, *r[2];
+    double *x = calloc(2 * (size_t)n + (size_t)m + 2 * per + 1,
+                       sizeof(double));
+    double *wt, *dir, *r[2];
     int k, i, rc = -1;
     if (!x || tp_ws_new(&w[0], T, c->P > 0 ? c->P : 1, NULL) != TP_OK ||
         tp_ws_new(&w[1], T, c->P > 0 ? c->P : 1, NULL) != TP_OK) {
@@ -352,28 +370,40 @@ static int check(const tp_compiled *c, const double *xin,
         goto done;
     }
     wt = x + n;
-    r[0] = wt + m;
+    dir = wt + m;
+    r[0] = dir + n;
     r[1] = r[0] + per;
     /* a default state inside most ops' domains, no two entries alike */
     for (i = 0; i < n; i++)
         x[i] = xin ? xin[i] : 0.3 + 0.05 * (double)(i % 11) + 1e-3 * i;
     for (i = 0; i < m; i++)
         wt[i] = 1.0 + 0.25 * (double)(i % 5);
+    for (i = 0; i < n; i++)
+        dir[i] = 0.7 - 0.1 * (double)(i % 13);
     for (k = 0; k < 2; k++) {
         double *y = r[k], *g = y + m, *L = g + n, *dt = L + 1, *gq = dt + 1,
-               *h = gq + nq, *M = h + nq;
+               *h = gq + nq, *M = h + nq, *jy = y + m + n + nl,
+               *J = jy + m, *ty = y + m + n + nl + nj;
         /* statuses may be TP_WARN_NONFINITE on both paths alike */
         if ((c->fwd0 && tp_eval(w[k], x, y) < 0) ||
             (c->rev1 && tp_vjp(w[k], x, wt, NULL, g) < 0) ||
             (c->lagrange &&
-             tp_lagrange_t(w[k], x, c->lout, L, gq, dt, M, h) < 0)) {
+             tp_lagrange_t(w[k], x, c->lout, L, gq, dt, M, h) < 0) ||
+            (c->jacobian && tp_jacobian(w[k], x, c->jfirst, c->jcount, jy,
+                                        J) < 0) ||
+            (c->taylor2 &&
+             tp_taylor2(w[k], x, dir, ty, ty + m, ty + 2 * m) < 0)) {
             say(info, "checking the compiled tape: %s", tp_ws_errmsg(w[k]));
             goto done;
         }
     }
     if (same(r[0], r[1], (size_t)m, "values", info) &&
         same(r[0] + m, r[1] + m, (size_t)n, "gradient", info) &&
-        same(r[0] + m + n, r[1] + m + n, nl, "Lagrange block", info))
+        same(r[0] + m + n, r[1] + m + n, nl, "Lagrange block", info) &&
+        same(r[0] + m + n + nl, r[1] + m + n + nl, nj, "Jacobian block",
+             info) &&
+        same(r[0] + m + n + nl + nj, r[1] + m + n + nl + nj, nt,
+             "Taylor sweep", info))
         rc = 0;
 done:
     tp_ws_free(&w[0]);
@@ -499,12 +529,20 @@ int tp_compile(const tp_tape *t, const tp_compile_opts *o,
     lout = o && (o->lagrange || (sweeps & TP_SWEEP_LAGRANGE))
                ? o->lagrange_out
                : -1;
-    sweeps &= TP_SWEEP_VALUES | TP_SWEEP_GRADIENTS;
+    sweeps &= TP_SWEEP_VALUES | TP_SWEEP_GRADIENTS | TP_SWEEP_JACOBIAN |
+              TP_SWEEP_TAYLOR2;
     if (o && (o->sweeps & ~(TP_SWEEP_VALUES | TP_SWEEP_GRADIENTS |
-                            TP_SWEEP_LAGRANGE))) {
+                            TP_SWEEP_LAGRANGE | TP_SWEEP_JACOBIAN |
+                            TP_SWEEP_TAYLOR2))) {
         say(info, "tp_compile: sweeps has bits other than TP_SWEEP_VALUES, "
-                  "TP_SWEEP_GRADIENTS and TP_SWEEP_LAGRANGE (%#x)",
+                  "_GRADIENTS, _LAGRANGE, _JACOBIAN and _TAYLOR2 (%#x)",
             o->sweeps);
+        return TP_ERR_SIZE;
+    }
+    if ((sweeps & TP_SWEEP_JACOBIAN) && (int)t->n_indep > P) {
+        say(info, "tp_compile: the Jacobian block needs max_dirs >= n_indep "
+                  "(%u), max_dirs is %d",
+            t->n_indep, o->max_dirs);
         return TP_ERR_SIZE;
     }
     if (lout >= 0 && (P == 0 || (uint32_t)lout >= t->n_out ||
@@ -557,6 +595,10 @@ int tp_compile(const tp_tape *t, const tp_compile_opts *o,
     c->lfirst = c->lcount = (int)t->n_indep / 2;
     for (rc = c->lfirst; rc < c->lfirst + c->lcount; rc++)
         c->lmask |= 1u << t->group[rc];
+    c->jfirst = 0;
+    c->jcount = (int)t->n_indep;
+    for (rc = 0; rc < c->jcount; rc++)
+        c->jmask |= 1u << t->group[rc];
     if (make_dirs(dir) != 0) {
         say(info, "cannot create the cache directory %s: %s", dir,
             strerror(errno));

@@ -130,12 +130,21 @@ static int forward_dirs(tp_ws *ws, const double *x, int p, const double *S,
     const tp_tape *T = ws->t;
     const uint32_t end = end_of(T, NULL);
     const size_t P = (size_t)ws->P;
+    /* the compiled Jacobian block: every direction in one call (its rows
+     * are P >= p wide) */
+    const bool block = p > 0 && !S && ws->cc && ws->cc->jacobian &&
+                       first == ws->cc->jfirst && p == ws->cc->jcount;
     int st = TP_OK, c0, k;
     uint32_t o;
     if (p == 0) {
         tp__fwd0(ws, x, end);
+    } else if (block) {
+        tp__jacobian_compiled(ws, x);
+        for (o = 0; o < T->n_out; o++)
+            memcpy(Y + (size_t)o * (size_t)p, ws->tan + T->out_slot[o] * P,
+                   (size_t)p * sizeof(double));
     }
-    for (c0 = 0; c0 < p; c0 += ws->max_dirs) {
+    for (c0 = 0; c0 < p && !block; c0 += ws->max_dirs) {
         const int pc = p - c0 < ws->max_dirs ? p - c0 : ws->max_dirs;
         const double *Sc = S ? S + c0 : NULL;
         const unsigned mask =

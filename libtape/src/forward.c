@@ -152,6 +152,13 @@ void tp__lagrange_compiled(tp_ws *ws, const double *x, double *g, double *H)
     ws->cc->lagrange(ws->v, ws->aux, ws->tan, ws->cat, ws->cadj, g, H);
 }
 
+void tp__jacobian_compiled(tp_ws *ws, const double *x)
+{
+    prepare_tangents(ws, ws->cc->jmask, ws->P);
+    load_leaves(ws, x);
+    ws->cc->jacobian(ws->v, ws->aux, ws->tan);
+}
+
 void tp__taylor2(tp_ws *ws, const double *x, const double *dir, uint32_t end)
 {
     const tp_tape *T = ws->t;
@@ -162,6 +169,10 @@ void tp__taylor2(tp_ws *ws, const double *x, const double *dir, uint32_t end)
     uint32_t i;
     /* d1 and d2 of parameters and passive ops are never written: zero */
     load_leaves(ws, x);
+    if (ws->cc && ws->cc->taylor2) {
+        ws->cc->taylor2(ws->v, ws->aux, d1, d2, dir);
+        return;
+    }
     for (i = 0; i < T->n_indep; i++) {
         d1[i] = dir[i];
         d2[i] = 0.0;

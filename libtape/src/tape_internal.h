@@ -230,6 +230,11 @@ void tp__taylor2(tp_ws *ws, const double *x, const double *d, uint32_t end);
  * lcount), keeping the tangent rows to fwd1's invariant (forward.c). */
 void tp__lagrange_compiled(tp_ws *ws, const double *x, double *g,
                            double *H);
+/* The compiled Jacobian block of ws->cc at x: the values and tangent rows
+ * of every output's cone in ws, as tp__fwd1 with unit directions on
+ * independents jfirst .. jfirst + jcount - 1 leaves them for the outputs
+ * (forward.c). */
+void tp__jacobian_compiled(tp_ws *ws, const double *x);
 /* Recompute the passive prefix of v if a parameter changed (forward.c). */
 void tp__ensure_passive(tp_ws *ws);
 /* The dependency mask of a seed (groups of independents it touches). */

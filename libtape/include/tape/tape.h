@@ -454,10 +454,13 @@ typedef struct tp_compile_opts {
     int lagrange_out;
     /* Which sweeps to compile, an or of TP_SWEEP_VALUES (every sweep of
      * values alone: tp_eval and the first half of tp_gradient),
-     * TP_SWEEP_GRADIENTS (the reverse sweep of tp_gradient and tp_vjp) and
-     * TP_SWEEP_LAGRANGE (the Lagrange block, as lagrange = 1); 0 (the
-     * default): values and gradients, and the Lagrange block if lagrange
-     * is set. The sweeps left out stay on the interpreter. Each costs
+     * TP_SWEEP_GRADIENTS (the reverse sweep of tp_gradient and tp_vjp),
+     * TP_SWEEP_LAGRANGE (the Lagrange block, as lagrange = 1),
+     * TP_SWEEP_JACOBIAN (tp_jacobian over all the independents, first 0
+     * and count n_indep; needs max_dirs >= n_indep) and TP_SWEEP_TAYLOR2
+     * (tp_taylor2); 0 (the default): values and gradients, and the
+     * Lagrange block if lagrange is set. The sweeps left out stay on the
+     * interpreter. Each costs
      * compile time (for a 50-link chain's Lagrangian, the values and
      * gradients were 40 % of it), so compile only what is called often:
      * a tape whose gradient is never taken needs TP_SWEEP_VALUES, one
@@ -471,6 +474,8 @@ typedef struct tp_compile_opts {
 #define TP_SWEEP_VALUES 1u
 #define TP_SWEEP_GRADIENTS 2u
 #define TP_SWEEP_LAGRANGE 4u
+#define TP_SWEEP_JACOBIAN 8u
+#define TP_SWEEP_TAYLOR2 16u
 
 typedef struct tp_compile_info {
     int cached;   /* 1: loaded from the cache, nothing was compiled */
