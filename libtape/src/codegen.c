@@ -75,6 +75,35 @@ static void emit_op(tp_sbuf *b, const tp_tape *T, enum sweep s, uint32_t i)
                         T->a1[i]);
 }
 
+void tp__cone(const tp_tape *T, uint32_t top, unsigned char *need)
+{
+    uint32_t i;
+    for (i = top + 1; i-- > T->first_active;) {
+        const unsigned op = T->opc[i];
+        if (!need[i])
+            continue;
+        need[T->a0[i]] = 1;
+        if (tp__op_kind(op) == TP_KIND_BINARY)
+            need[T->a1[i]] = 1;
+        if ((op == TP_OP_SIN || op == TP_OP_COS) && T->a1[i])
+            need[T->a1[i] - 1] = 1;
+    }
+}
+
+uint32_t tp__outputs_cone(const tp_tape *T, unsigned char *need)
+{
+    uint32_t o, end = T->first_active;
+    for (o = 0; o < T->n_out; o++)
+        if (T->out_slot[o] >= T->first_active) {
+            need[T->out_slot[o]] = 1;
+            if (T->out_slot[o] + 1 > end)
+                end = T->out_slot[o] + 1;
+        }
+    if (end > T->first_active)
+        tp__cone(T, end - 1, need);
+    return end;
+}
+
 const char *tp__op_fn_name(unsigned op)
 {
     switch (op) {

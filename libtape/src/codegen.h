@@ -88,6 +88,14 @@ int tp__run_build(const char *cc, const char *flags, char *src, char *so,
                   const char *tmp_base, int parts,
                   const char *log, char *msg, size_t len);
 
+/* The cone of the ops marked in need at or below top: every op whose
+ * value they need (and the partners whose sine or cosine a paired op
+ * reads), marked in need too (codegen.c). */
+void tp__cone(const tp_tape *T, uint32_t top, unsigned char *need);
+/* The same for every output's op: need (n_ops entries, zeroed) marks the
+ * cone; returns one past the highest op marked (first_active if none). */
+uint32_t tp__outputs_cone(const tp_tape *T, unsigned char *need);
+
 /* The name of op's own function in sweep_ops.h ("MUL"), or "GEN". */
 const char *tp__op_fn_name(unsigned op);
 

@@ -399,24 +399,6 @@ static void emit_reverse(lg *g, uint32_t i)
 
 /* ---- the functions ----------------------------------------------------- */
 
-/* The cone of the ops marked in need at or below top: every op whose
- * value they need (and the partners whose sine or cosine a paired op
- * reads), marked in need too. */
-static void cone(const tp_tape *T, uint32_t top, unsigned char *need)
-{
-    uint32_t i;
-    for (i = top + 1; i-- > T->first_active;) {
-        const unsigned op = T->opc[i];
-        if (!need[i])
-            continue;
-        need[T->a0[i]] = 1;
-        if (tp__op_kind(op) == TP_KIND_BINARY)
-            need[T->a1[i]] = 1;
-        if ((op == TP_OP_SIN || op == TP_OP_COS) && T->a1[i])
-            need[T->a1[i] - 1] = 1;
-    }
-}
-
 /* Chunks: the ops of one phase split into functions of at most CHUNK
  * ops, as in codegen.c. */
 #define CHUNK 256
@@ -526,7 +508,7 @@ int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
         return st;
     if (o >= T->first_active) {
         g.need[o] = 1;
-        cone(T, o, g.need);
+        tp__cone(T, o, g.need);
     }
     /* forward over the cone, then reverse from the output */
     for (i = T->first_active; i <= o && o >= T->first_active; i++)
@@ -571,23 +553,14 @@ int tp__emit_jacobian(const tp_tape *T, int first, int count, int P,
                       tp_sbuf *b)
 {
     lg g;
-    uint32_t i, o, top = 0;
-    bool any = false;
+    uint32_t i, top;
     int k, nchunk = 0, inchunk = 0;
     int st = lg_init(&g, T, first, count, P, "jc", b);
     if (st != TP_OK)
         return st;
     /* the cone of every output, forward once */
-    for (o = 0; o < T->n_out; o++)
-        if (T->out_slot[o] >= T->first_active) {
-            g.need[T->out_slot[o]] = 1;
-            any = true;
-            if (T->out_slot[o] > top)
-                top = T->out_slot[o];
-        }
-    if (any)
-        cone(T, top, g.need);
-    for (i = T->first_active; any && i <= top; i++)
+    top = tp__outputs_cone(T, g.need);
+    for (i = T->first_active; i < top; i++)
         if (g.need[i])
             chunk_op(&g, &nchunk, &inchunk, false, i);
     chunk_close(&g, &inchunk);

@@ -23,31 +23,6 @@
 
 #include "codegen.h"
 
-/* The cone of every output: ops whose value or coefficients an output
- * needs. need has n_ops entries, zeroed; returns one past the highest op
- * needed (first_active if none). */
-static uint32_t outputs_cone(const tp_tape *T, unsigned char *need)
-{
-    uint32_t i, o, end = T->first_active;
-    for (o = 0; o < T->n_out; o++)
-        if (T->out_slot[o] >= T->first_active) {
-            need[T->out_slot[o]] = 1;
-            if (T->out_slot[o] + 1 > end)
-                end = T->out_slot[o] + 1;
-        }
-    for (i = end; i-- > T->first_active;) {
-        const unsigned op = T->opc[i];
-        if (!need[i])
-            continue;
-        need[T->a0[i]] = 1;
-        if (tp__op_kind(op) == TP_KIND_BINARY)
-            need[T->a1[i]] = 1;
-        if ((op == TP_OP_SIN || op == TP_OP_COS) && T->a1[i])
-            need[T->a1[i] - 1] = 1;
-    }
-    return end;
-}
-
 /* The coefficients of op i from its operands': d1[i] and d2[i]. */
 static void emit_coefficients(tp_sbuf *b, const tp_tape *T, uint32_t i)
 {
@@ -146,7 +121,7 @@ int tp__emit_taylor2(const tp_tape *T, tp_sbuf *b)
     uint32_t i, end, in = 0, nchunk = 0;
     if (!need)
         return TP_ERR_NOMEM;
-    end = outputs_cone(T, need);
+    end = tp__outputs_cone(T, need);
     tp__sbuf_puts(b, "#define TY_ARGS double *restrict v, double *restrict "
                      "aux, double *restrict d1, double *restrict d2\n");
     for (i = T->first_active; i < end; i++) {
