@@ -44,7 +44,7 @@
  * [0, 1]: every op stays inside its domain. Outputs L, then T and V. */
 static int rec_every_op(tp_rec *r, void *user)
 {
-    tp_val q[NQ], qd[NQ], t, m, a, b, c, T, V, e;
+    tp_val q[NQ], qd[NQ], t, m, a, b, c, T, V, e, w, s1, c1;
     int i;
     (void)user;
     for (i = 0; i < NQ; i++) {
@@ -97,8 +97,13 @@ static int rec_every_op(tp_rec *r, void *user)
     /* ADD and SUB with a passive operand on either side */
     V = tp_add(r, V, tp_mul(r, tp_sub(r, m, tp_mul(r, q[0], q[1])),
                             tp_sub(r, tp_add(r, m, tp_sqr(r, q[2])), m)));
-    tp_output(r, "L", tp_sub(r, T, V));
-    tp_output(r, "T", T);
+    /* a pair whose first op only the second output reads: L's cone needs
+     * the sine for the cosine's value */
+    w = tp_mul(r, q[1], qd[0]);
+    s1 = tp_sin(r, w);
+    c1 = tp_cos(r, w);
+    tp_output(r, "L", tp_add(r, tp_sub(r, T, V), tp_mul(r, c1, qd[2])));
+    tp_output(r, "T", tp_add(r, T, s1));
     tp_output(r, "V", V);
     return 0;
 }
