@@ -28,13 +28,22 @@
  * Seeds include directions confined to one group, which exercises the
  * sweeps' dependency skipping.
  *
- * A second part checks the record-time rewrites (an op with a constant
+ * A second part runs every case on the compiled backend: all of them on
+ * one tape (each with its own parameters, output 0 their sum), compiled
+ * once with every sweep it has, against the interpreter at random points
+ * inside each op's domain: values, gradients, the Lagrange block, the
+ * Jacobian block and the Taylor sweep to 1e-14 relative.
+ *
+ * A third part checks the record-time rewrites (an op with a constant
  * operand becomes ADDC, MULC, CSUB, CDIV, POWC or POWI; x*0, x+0, x-x, x*x,
  * x+x, POWI with k = 0, 1, 2; constant folding): the opcode that lands on
  * the tape, and values and derivatives against the evaluators.
  */
+#define _POSIX_C_SOURCE 200809L
+
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "check.h"
@@ -143,15 +152,11 @@ static bool is_binary(int op)
     return tp__opinfo[op].kind == TP_KIND_BINARY;
 }
 
-static int conf_record(tp_rec *r, void *user)
+/* Case cc's f and g at x, its operands offset by the parameters pu, pt. */
+static void record_case(tp_rec *r, const tp_val *x, const conf_case *cc,
+                        tp_val pu, tp_val pt, tp_val *f, tp_val *gout)
 {
-    const conf_case *cc = user;
-    tp_val x[NI], pu, pt, u, t, f, gout;
-    int i;
-    for (i = 0; i < NI; i++)
-        x[i] = tp_indep(r, i);
-    pu = tp_param(r, "cu", 0.5);
-    pt = tp_param(r, "ct", 0.5);
+    tp_val u, t;
     switch (cc->shape) {
     case SH_SPLIT:
         u = tp_add(r, pu, is_binary(cc->op) ? rec_ga(r, x) : rec_gb(r, x));
@@ -174,9 +179,22 @@ static int conf_record(tp_rec *r, void *user)
         t = tp_add(r, pt, rec_g2(r, x));
         break;
     }
-    f = tp__rec_op(r, cc->op, u, t, cc->c);
-    gout = tp_add(r, tp_mul(r, f, tp_addc(r, tp_mulc(r, x[1], 0.25), 1.5)),
-                  tp_mul(r, u, x[2]));
+    *f = tp__rec_op(r, cc->op, u, t, cc->c);
+    *gout = tp_add(r, tp_mul(r, *f, tp_addc(r, tp_mulc(r, x[1], 0.25), 1.5)),
+                   tp_mul(r, u, x[2]));
+}
+
+static int conf_record(tp_rec *r, void *user)
+{
+    const conf_case *cc = user;
+    tp_val x[NI], pu, pt, f, gout;
+    int i;
+    for (i = 0; i < NI; i++)
+        x[i] = tp_indep(r, i);
+    /* in this order: the parameters' indices on the tape */
+    pu = tp_param(r, "cu", 0.5);
+    pt = tp_param(r, "ct", 0.5);
+    record_case(r, x, cc, pu, pt, &f, &gout);
     tp_output(r, "f", f);
     tp_output(r, "g", gout);
     return 0;
@@ -237,6 +255,47 @@ static double sample(int dom, int k, rng *g, double *u, double *t)
         }
         return 1.0;
     }
+}
+
+/* Sample k of case cc's operand values (u, t), as sample() draws them,
+ * and the parameters pu, pt that put its operands there at x. Returns
+ * the distance to the nearest place where the op may stop being smooth. */
+static double place(const conf_case *cc, int k, rng *g, const double *x,
+                    double *u, double *t, double *pu, double *pt)
+{
+    const int dom = tp__opinfo[cc->op].domain;
+    double dist = sample(dom, k, g, u, t);
+    switch (cc->shape) {
+    case SH_SPLIT:
+        *pu = *u - (is_binary(cc->op) ? ga(x) : gb(x));
+        *pt = *t - gb(x);
+        break;
+    case SH_UPARAM:
+        *pu = *u;
+        *pt = *t - g2(x);
+        break;
+    case SH_TPARAM:
+        *pu = *u - g1(x);
+        *pt = *t;
+        break;
+    case SH_ALIAS:
+        /* one value a for both operands, in every alias domain (nonzero,
+         * and positive for a base) and not small: ops such as a/a and
+         * atan2(a, a) are constant, so their derivatives are sums of
+         * terms of size 1/a that cancel, and rounding in them must stay
+         * below the checks' tolerances */
+        *u = *t = (dom == TP_DOM_UPOS || k % 2 == 0 ? 1.0 : -1.0) *
+                  rng_range(g, 0.5, 2.0);
+        dist = 0.5;
+        *pu = *u - g1(x);
+        *pt = 0.5;
+        break;
+    default:
+        *pu = *u - g1(x);
+        *pt = *t - g2(x);
+        break;
+    }
+    return dist;
 }
 
 /* ---- engines and finite-difference callbacks -------------------------- */
@@ -730,38 +789,7 @@ static void run_case(conf_case *cc, tp_rec *ev, tp_rec *tu,
         int i;
         for (i = 0; i < NI; i++)
             x[i] = rng_range(g, -0.5, 0.5);
-        dist = sample(dom, k, g, &u, &t);
-        /* parameters that put the operands on (u, t) at x */
-        switch (cc->shape) {
-        case SH_SPLIT:
-            pu = u - (is_binary(cc->op) ? ga(x) : gb(x));
-            pt = t - gb(x);
-            break;
-        case SH_UPARAM:
-            pu = u;
-            pt = t - g2(x);
-            break;
-        case SH_TPARAM:
-            pu = u - g1(x);
-            pt = t;
-            break;
-        case SH_ALIAS:
-            /* one value a for both operands, in every alias domain
-             * (nonzero, and positive for a base) and not small: ops such
-             * as a/a and atan2(a, a) are constant, so their derivatives
-             * are sums of terms of size 1/a that cancel, and rounding in
-             * them must stay below the checks' tolerances */
-            u = t = (dom == TP_DOM_UPOS || k % 2 == 0 ? 1.0 : -1.0) *
-                    rng_range(g, 0.5, 2.0);
-            dist = 0.5;
-            pu = u - g1(x);
-            pt = 0.5;
-            break;
-        default:
-            pu = u - g1(x);
-            pt = t - g2(x);
-            break;
-        }
+        dist = place(cc, k, g, x, &u, &t, &pu, &pt);
         /* an operand moves by at most 3.5 h per unit step in x; keep the
          * difference stencil 1000 times closer to the operand than any
          * non-smooth place */
@@ -780,40 +808,52 @@ static void run_case(conf_case *cc, tp_rec *ev, tp_rec *tu,
     tp_tape_free(&E.T);
 }
 
-static void conformance(void)
+/* Every case: each non-leaf op of the table, with each constant of its
+ * kind's list and each operand shape it takes. Fills out (up to max) and
+ * returns the count. */
+#define MAX_CASES 512
+static int list_cases(conf_case *out, int max)
 {
-    tp_rec *ev = NULL, *tu = NULL;
-    rng g = rng_seed(0x5eed0001u);
-    conf_case cc;
-    int op, s, kc, n_cases = 0, covered[TP_OP_COUNT];
-
-    CHECK_INT(tp_evaluator_new(&ev, NI, NULL), TP_OK);
-    CHECK_INT(tp_tuple_new(&tu, NI, NULL), TP_OK);
-    if (!ev || !tu)
-        goto done;
+    int op, s, kc, n = 0;
     for (op = 0; op < TP_OP_COUNT; op++) {
         const int kind = tp__opinfo[op].kind;
         const int n_shapes = kind == TP_KIND_BINARY ? SH_COUNT : 2;
         int n_consts = 1;
-        covered[op] = 0;
         if (kind == TP_KIND_LEAF)
             continue;
         if (kind == TP_KIND_UCONST)
             n_consts = (int)(sizeof uconst_list / sizeof uconst_list[0]);
         else if (kind == TP_KIND_UINT)
             n_consts = (int)(sizeof uint_list / sizeof uint_list[0]);
-        for (kc = 0; kc < n_consts; kc++) {
-            for (s = 0; s < n_shapes; s++) {
-                cc.op = op;
-                cc.c = kind == TP_KIND_UCONST ? uconst_list[kc]
-                     : kind == TP_KIND_UINT  ? (double)uint_list[kc]
-                                             : 0.0;
-                cc.shape = s;
-                run_case(&cc, ev, tu, &g);
-                covered[op]++;
-                n_cases++;
+        for (kc = 0; kc < n_consts; kc++)
+            for (s = 0; s < n_shapes && n < max; s++) {
+                out[n].op = op;
+                out[n].c = kind == TP_KIND_UCONST ? uconst_list[kc]
+                         : kind == TP_KIND_UINT  ? (double)uint_list[kc]
+                                                 : 0.0;
+                out[n].shape = s;
+                n++;
             }
-        }
+    }
+    return n;
+}
+
+static void conformance(void)
+{
+    static conf_case cases[MAX_CASES];
+    tp_rec *ev = NULL, *tu = NULL;
+    rng g = rng_seed(0x5eed0001u);
+    const int n_cases = list_cases(cases, MAX_CASES);
+    int op, k, covered[TP_OP_COUNT] = {0};
+
+    CHECK(n_cases < MAX_CASES);
+    CHECK_INT(tp_evaluator_new(&ev, NI, NULL), TP_OK);
+    CHECK_INT(tp_tuple_new(&tu, NI, NULL), TP_OK);
+    if (!ev || !tu)
+        goto done;
+    for (k = 0; k < n_cases; k++) {
+        run_case(&cases[k], ev, tu, &g);
+        covered[cases[k].op]++;
     }
     /* every non-leaf op of the table was exercised */
     for (op = 0; op < TP_OP_COUNT; op++)
@@ -823,6 +863,163 @@ static void conformance(void)
 done:
     tp_rec_free(&ev);
     tp_rec_free(&tu);
+}
+
+/* ---- the compiled backend ---------------------------------------------- */
+
+/* Every case on one tape: case k's f and g with its own parameters cuK
+ * and ctK; output 0 is the sum of the g's (a Lagrangian of q = (x0, x1),
+ * qd = (x2, x3): every op's second derivatives reach its Lagrange block),
+ * then each case's f and g. */
+typedef struct all_cases {
+    const conf_case *c;
+    int n;
+} all_cases;
+
+static int all_record(tp_rec *r, void *user)
+{
+    const all_cases *a = user;
+    static tp_val f[MAX_CASES], gout[MAX_CASES];
+    tp_val x[NI], sum;
+    char name[32];
+    int i, k;
+    for (i = 0; i < NI; i++)
+        x[i] = tp_indep(r, i);
+    for (k = 0; k < a->n; k++) {
+        tp_val pu, pt;
+        snprintf(name, sizeof name, "cu%d", k);
+        pu = tp_param(r, name, 0.5);
+        snprintf(name, sizeof name, "ct%d", k);
+        pt = tp_param(r, name, 0.5);
+        record_case(r, x, &a->c[k], pu, pt, &f[k], &gout[k]);
+    }
+    sum = gout[0];
+    for (k = 1; k < a->n; k++)
+        sum = tp_add(r, sum, gout[k]);
+    tp_output(r, "L", sum);
+    for (k = 0; k < a->n; k++) {
+        snprintf(name, sizeof name, "f%d", k);
+        tp_output(r, name, f[k]);
+        snprintf(name, sizeof name, "g%d", k);
+        tp_output(r, name, gout[k]);
+    }
+    return 0;
+}
+
+/* Every sweep the compiled backend has, on both paths at x: values, a
+ * weighted gradient, the Lagrange block of output 0, the Jacobian over
+ * every independent, the Taylor coefficients along dir; into r. */
+static void all_sweeps(tp_ws *w, const double *x, const double *wt,
+                       const double *dir, int m, double *r)
+{
+    double *y = r, *gr = y + m, *L = gr + NI, *gq = L + 1, *M = gq + 2,
+           *h = M + 4, *J = h + 2, *ty = J + (size_t)m * NI;
+    CHECK_INT(tp_eval(w, x, y), TP_OK);
+    CHECK_INT(tp_vjp(w, x, wt, NULL, gr), TP_OK);
+    CHECK_INT(tp_lagrange(w, x, 0, L, gq, M, h), TP_OK);
+    CHECK_INT(tp_jacobian(w, x, 0, NI, NULL, J), TP_OK);
+    CHECK_INT(tp_taylor2(w, x, dir, ty, ty + m, ty + 2 * m), TP_OK);
+}
+
+/* The cases of conformance() at random points of their domains (no edge
+ * points: there a NaN or an infinity may propagate differently where the
+ * compiled code leaves out a structurally zero term), compiled against
+ * interpreted, every result to 1e-14 relative: they do the same
+ * arithmetic. One tape, so one compilation. */
+static void compiled_backend(void)
+{
+    static conf_case cases[MAX_CASES];
+    char dir[] = "/tmp/test-conformance-XXXXXX", cmd[128];
+    all_cases a;
+    tp_rec *r = NULL;
+    tp_tape *T = NULL;
+    tp_ws *w[2] = {NULL, NULL};
+    tp_compiled *c = NULL;
+    tp_compile_opts o;
+    tp_compile_info info;
+    rng g = rng_seed(0x5eed0002u);
+    double *res[2] = {NULL, NULL}, *par = NULL;
+    static int pidx[2 * MAX_CASES];
+    size_t per;
+    int m, k, p, i, q;
+
+    a.c = cases;
+    a.n = list_cases(cases, MAX_CASES);
+    if (!mkdtemp(dir)) {
+        perror("mkdtemp");
+        CHECK(0);
+        return;
+    }
+    CHECK_INT(tp_recorder_new(&r, NI, groups, NULL), TP_OK);
+    CHECK_INT(tp_rec_run(r, NULL, all_record, &a), TP_OK);
+    CHECK_INT(tp_recorder_finish(r, &T), TP_OK);
+    tp_rec_free(&r);
+    if (!T)
+        goto done;
+    memset(&o, 0, sizeof o);
+    o.cache_dir = dir;
+    o.max_dirs = NI;
+    o.lagrange = 1;
+    o.lagrange_out = 0;
+    o.sweeps = TP_SWEEP_VALUES | TP_SWEEP_GRADIENTS | TP_SWEEP_LAGRANGE |
+               TP_SWEEP_JACOBIAN | TP_SWEEP_TAYLOR2;
+    CHECK_INT(tp_compile(T, &o, &c, &info), TP_OK);
+    if (!c) {
+        fprintf(stderr, "compiled backend: %s\n", info.msg);
+        goto done;
+    }
+    m = (int)tp_tape_n_outputs(T);
+    CHECK_INT(m, 1 + 2 * a.n);
+    per = (size_t)m + NI + 1 + 2 + 4 + 2 + (size_t)m * NI + 3 * (size_t)m;
+    res[0] = calloc(2 * per, sizeof(double));
+    res[1] = res[0] ? res[0] + per : NULL;
+    par = calloc((size_t)m, sizeof(double)); /* output weights */
+    for (q = 0; q < 2; q++)
+        CHECK_INT(tp_ws_new(&w[q], T, NI, NULL), TP_OK);
+    if (!res[0] || !par || !w[0] || !w[1])
+        goto out;
+    CHECK_INT(tp_ws_set_compiled(w[1], c), TP_OK);
+    for (k = 0; k < 2 * a.n; k++) {
+        char name[32];
+        snprintf(name, sizeof name, "c%c%d", k % 2 ? 't' : 'u', k / 2);
+        pidx[k] = tp_tape_param_index(T, name);
+        CHECK(pidx[k] >= 0);
+    }
+    for (p = 0; p < NRAND; p++) {
+        double x[NI], d[NI];
+        for (i = 0; i < NI; i++) {
+            x[i] = rng_range(&g, -0.5, 0.5);
+            d[i] = rng_range(&g, -1.0, 1.0);
+        }
+        /* each case's operands somewhere inside its op's domain */
+        for (k = 0; k < a.n; k++) {
+            const int dom = tp__opinfo[cases[k].op].domain;
+            double u, t, pu, pt;
+            place(&cases[k], n_edge(dom) + p, &g, x, &u, &t, &pu, &pt);
+            for (q = 0; q < 2; q++) {
+                CHECK_INT(tp_ws_set_param(w[q], pidx[2 * k], pu), TP_OK);
+                CHECK_INT(tp_ws_set_param(w[q], pidx[2 * k + 1], pt), TP_OK);
+            }
+        }
+        for (i = 0; i < m; i++)
+            par[i] = rng_range(&g, -1.0, 1.0);
+        for (q = 0; q < 2; q++)
+            all_sweeps(w[q], x, par, d, m, res[q]);
+        for (i = 0; i < (int)per; i++)
+            CHECK_NEAR(res[1][i], res[0][i], 1e-14);
+    }
+    printf("compiled backend: %d cases on one tape of %d outputs\n", a.n, m);
+out:
+    free(res[0]);
+    free(par);
+done:
+    tp_ws_free(&w[0]);
+    tp_ws_free(&w[1]);
+    tp_compiled_free(&c);
+    tp_tape_free(&T);
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    if (system(cmd) != 0)
+        fprintf(stderr, "could not remove %s\n", dir);
 }
 
 /* ---- record-time rewrites --------------------------------------------- */
@@ -1018,6 +1215,7 @@ done:
 int main(void)
 {
     conformance();
+    compiled_backend();
     rewrites();
     CHECK_DONE();
 }
