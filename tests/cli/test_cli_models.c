@@ -634,8 +634,9 @@ static int fb_matches(const char *fc, const char *b)
     return same;
 }
 
-/* --compiled: the interpreter's CSV, byte for byte; the second run loads
- * from the cache; without a compiler (none on PATH, or CC naming none) a
+/* --compiled: the interpreter's CSV, byte for byte (the double pendulum,
+ * and the closed chain with its constraints); the second run loads from
+ * the cache; without a compiler (none on PATH, or CC naming none) a
  * warning and the same CSV. */
 static void case_compiled(void)
 {
@@ -694,6 +695,27 @@ static void case_compiled(void)
     free(fa);
     free(fb);
     free(fc);
+    /* the closed chain: its constraints' Jacobian and gamma compiled too */
+    {
+        const char *ccomp[] = {"closed-chain", "--compiled", "--t-end", "0.2",
+                               "-o", a, NULL};
+        const char *cint[] = {"closed-chain", "--t-end", "0.2", "-o", b,
+                              NULL};
+        setenv("AUTOEOM_CACHE_DIR", cache, 1);
+        run(&r, ccomp);
+        CHECK_INT(r.status, 0);
+        CHECK_HAS(r.err, "compiled tapes in use (0 of 4");
+        result_free(&r);
+        run(&r, cint);
+        CHECK_INT(r.status, 0);
+        result_free(&r);
+        fa = read_file(a, NULL);
+        fb = read_file(b, NULL);
+        CHECK(fa && fb && strlen(fa) > 1000);
+        CHECK(fa && fb && strcmp(fa, fb) == 0);
+        free(fa);
+        free(fb);
+    }
 }
 
 static const struct {
