@@ -4,7 +4,7 @@
  *   1. Every shipped model file and three chains of the element library
  *      (rigid, flexible with structural damping, closed): the compiled
  *      system against an interpreted clone at 30 states around the
- *      initial one: right-hand sides, energies and probes to 1e-13
+ *      initial one: right-hand sides, energies and probes to 1e-14
  *      relative; a clone of the compiled system is compiled too.
  *   2. No compiler: eom_system_set_compiled returns EOM_WARN_INTERPRETED
  *      with the reason, the system stays on the interpreter and gives the
@@ -43,18 +43,18 @@ static void compare(eom_system *s, eom_system *c, const char *what)
             x[i] = x0[i] + (k ? 0.2 * (rng_unit(&g) - 0.5) : 0.0);
         CHECK_INT(eom_rhs(s, 0.3, x, a), eom_rhs(c, 0.3, x, b));
         for (i = 0; i < 2 * n; i++)
-            CHECK_NEAR(a[i], b[i], 1e-13);
+            CHECK_NEAR(a[i], b[i], 1e-14);
         CHECK_INT(eom_energy_at(s, 0.3, x, &ea), EOM_OK);
         CHECK_INT(eom_energy_at(c, 0.3, x, &eb), EOM_OK);
-        CHECK_NEAR(ea.T, eb.T, 1e-13);
-        CHECK_NEAR(ea.V, eb.V, 1e-13);
-        CHECK_NEAR(ea.E, eb.E, 1e-13);
-        CHECK_NEAR(ea.P, eb.P, 1e-13);
+        CHECK_NEAR(ea.T, eb.T, 1e-14);
+        CHECK_NEAR(ea.V, eb.V, 1e-14);
+        CHECK_NEAR(ea.E, eb.E, 1e-14);
+        CHECK_NEAR(ea.P, eb.P, 1e-14);
         if (np > 0) {
             CHECK_INT(eom_probes_at(s, x, pa), EOM_OK);
             CHECK_INT(eom_probes_at(c, x, pb), EOM_OK);
             for (i = 0; i < np; i++)
-                CHECK_NEAR(pa[i], pb[i], 1e-13);
+                CHECK_NEAR(pa[i], pb[i], 1e-14);
         }
     }
     if (check_failures_ != fails)
