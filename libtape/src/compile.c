@@ -539,7 +539,7 @@ int tp_compile(const tp_tape *t, const tp_compile_opts *o,
             o->sweeps);
         return TP_ERR_SIZE;
     }
-    if ((sweeps & TP_SWEEP_JACOBIAN) && (int)t->n_indep > P) {
+    if ((sweeps & TP_SWEEP_JACOBIAN) && (int)t->n_indep > o->max_dirs) {
         say(info, "tp_compile: the Jacobian block needs max_dirs >= n_indep "
                   "(%u), max_dirs is %d",
             t->n_indep, o->max_dirs);
