@@ -13,6 +13,10 @@
  *   4. ops added at the end and taken away again, values never read,
  *      constants where there were values: right results, no repeat;
  *   5. a failing run (an error in the function) leaves nothing behind.
+ *   6. parameters declared in another order, fewer, twice, or again with
+ *      another default in later runs of one evaluator (plain and tuple):
+ *      the same parameter for the same name, the error for the changed
+ *      default, whatever the names kept from earlier runs.
  * Values are compared with tp_tuple_output of a context made for the
  * comparison and run once, so every check is against a run that had no
  * plan to follow.
@@ -97,6 +101,53 @@ static void run_and_compare(tp_rec *R, int path, const double *x, int calls,
     tp_rec_free(&F);
 }
 
+/* Declares one parameter per letter of *user: the name in lower case,
+ * default 1 (2 for an upper-case letter); output "s" their sum. */
+static int rec_params(tp_rec *R, void *user)
+{
+    const char *seq = *(const char **)user;
+    tp_val s = tp_const(R, 0.0);
+    for (; *seq; seq++) {
+        const char name[2] = {(char)(*seq | 0x20), '\0'};
+        s = tp_add(R, s, tp_param(R, name, *seq & 0x20 ? 1.0 : 2.0));
+    }
+    tp_output(R, "s", s);
+    return 0;
+}
+
+/* Runs of rec_params on one evaluator: each sequence's status and sum. */
+static void params_across_runs(tp_rec *R)
+{
+    static const struct {
+        const char *seq;
+        int status;
+        double sum;
+    } runs[] = {
+        {"ab", TP_OK, 2.0},  {"bB", TP_ERR_NAME, 0.0},
+        {"ab", TP_OK, 2.0},  {"b", TP_OK, 1.0},
+        {"bb", TP_OK, 2.0},  /* the kept names are now b, b */
+        {"bB", TP_ERR_NAME, 0.0}, {"ba", TP_OK, 2.0},
+        {"ab", TP_OK, 2.0},  {"abB", TP_ERR_NAME, 0.0},
+        {"aab", TP_OK, 3.0}, {"c", TP_OK, 1.0},
+        {"cC", TP_ERR_NAME, 0.0}, {"abc", TP_OK, 3.0},
+        {"abcA", TP_ERR_NAME, 0.0},
+    };
+    const double x[NI] = {0.1, 0.2, 0.3};
+    size_t k;
+    for (k = 0; k < sizeof runs / sizeof runs[0]; k++) {
+        double y = -1.0;
+        const char *seq = runs[k].seq;
+        const int st = tp_rec_run(R, x, rec_params, &seq);
+        CHECK_INT(st, runs[k].status);
+        if (st == TP_OK) {
+            CHECK_INT(tp_rec_output_value(R, 0, &y), TP_OK);
+            CHECK_NEAR(y, runs[k].sum, 0.0);
+        }
+        if (st != runs[k].status)
+            fprintf(stderr, "  (parameters %s)\n", runs[k].seq);
+    }
+}
+
 int main(void)
 {
     tp_rec *R = NULL;
@@ -129,6 +180,11 @@ int main(void)
     CHECK_INT(a.calls, 1);
     run_and_compare(R, 0, x, 1, "after a failed run");
     run_and_compare(R, 1, x, 2, "late read after a failed run");
+    /* 6. parameters from run to run */
+    params_across_runs(R);
+    tp_rec_free(&R);
+    CHECK_INT(tp_evaluator_new(&R, NI, NULL), TP_OK);
+    params_across_runs(R);
     tp_rec_free(&R);
     CHECK_DONE();
 }

@@ -259,7 +259,16 @@ tp_val tp_param(tp_rec *r, const char *name, double dflt)
     uint32_t id;
     if (!r || !writable(r, "tp_param") || !valid_name(r, name, "tp_param"))
         return invalid_val;
-    p = find_named(r->params, r->n_params, name);
+    /* A function declares its parameters in the same order at every run:
+     * the previous run's next name (they were distinct, and this run's so
+     * far are the ones before it) is a new one without a search. Only
+     * otherwise a search among this run's names (a model with hundreds of
+     * parameters searched them all at every run). */
+    if (r->params_in_order && r->n_params < r->prev_params &&
+        strcmp(r->params[r->n_params].name, name) == 0)
+        p = NULL;
+    else if ((p = find_named(r->params, r->n_params, name)) == NULL)
+        r->params_in_order = false;
     if (p) {
         /* NaN defaults compare unequal; treat identical bits as equal. */
         if (!(p->value == dflt) && memcmp(&p->value, &dflt, sizeof dflt)) {
@@ -309,6 +318,8 @@ static void fresh_run(tp_rec *r)
 {
     r->status = TP_OK;
     r->msg[0] = '\0';
+    r->prev_params = r->n_params;
+    r->params_in_order = true;
     clear_named(&r->n_params, &r->kept_params);
     clear_named(&r->n_outs, &r->kept_outs);
 }

@@ -127,6 +127,11 @@ struct tp_rec {
     size_t n_outs, cap_outs;
     /* evaluators: entries whose names are kept from earlier runs */
     size_t kept_params, kept_outs;
+    /* evaluators: the parameters the previous run declared, and whether
+     * this run has declared the same ones in the same order so far (then
+     * the next of them needs no search among this run's names) */
+    size_t prev_params;
+    bool params_in_order;
     tp_named *over; /* evaluators: parameter overrides by name */
     size_t n_over, cap_over;
 };
