@@ -29,22 +29,30 @@ int cli_setup(void)
     return 0;
 }
 
-void cli_cleanup(void)
+/* Remove the files of dir and, depth levels down, of its directories,
+ * then dir itself; 0 if dir is gone. */
+static int remove_tree(const char *dir, int depth)
 {
-    /* what a case left behind: files, and empty directories */
-    DIR *d = opendir(tmpdir);
+    DIR *d = opendir(dir);
     struct dirent *e;
-    char path[600];
+    char path[1024];
     while (d && (e = readdir(d)) != NULL) {
         if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0)
             continue;
-        snprintf(path, sizeof path, "%s/%s", tmpdir, e->d_name);
-        if (unlink(path) != 0)
-            rmdir(path);
+        snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+        if (unlink(path) != 0 && depth > 0)
+            remove_tree(path, depth - 1);
     }
     if (d)
         closedir(d);
-    if (rmdir(tmpdir) != 0)
+    return rmdir(dir);
+}
+
+void cli_cleanup(void)
+{
+    /* what a case left behind: files, and directories of files (the
+     * compiled tapes' caches) */
+    if (remove_tree(tmpdir, 1) != 0)
         fprintf(stderr, "warning: cannot remove %s: %s\n", tmpdir,
                 strerror(errno));
 }
