@@ -234,7 +234,8 @@ typedef struct eom_compiled_info {
     int cached;     /* of them found in the cache or already compiled */
     int rebuilt;    /* cache entries that failed their checks and were
                        built again */
-    double seconds; /* generating, compiling, loading and checking */
+    double seconds; /* generating, compiling, loading and checking
+                       (wall time: the tapes are built side by side) */
     size_t source_bytes; /* generated C source of the tapes compiled now */
 } eom_compiled_info;
 EOM_API int eom_system_set_compiled(eom_system *s, int on,
