@@ -3,17 +3,17 @@
  * finds them in the cache), checks each at the model's initial state and
  * points the system's workspaces at them. The tapes are compiled side by
  * side, one thread each (every compiler call is its own process, so the
- * threads only wait; the fixed cost of starting the compilers is paid
- * once instead of once per tape). The compiled tapes belong to the set
+ * threads only wait; the compilers' start-up times overlap instead of
+ * adding up tape by tape). The compiled tapes belong to the set
  * of tapes a system shares with its clones; clones made later inherit
  * them. Any failure leaves the system on the interpreter, with the
  * reason in its message: a run never fails for it. */
 #define _POSIX_C_SOURCE 200809L
 
 #include <pthread.h>
-#include <time.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "eom_internal.h"
 
