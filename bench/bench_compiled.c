@@ -25,7 +25,6 @@
 
 #include "bench_util.h"
 #include "chain_unequal.h"
-#include "eom/chain.h"
 
 typedef struct ctx {
     eom_system *s;
@@ -46,31 +45,6 @@ static void call_hand(void *p)
     chain_plain_hand_rhs(c->hand, c->x, c->qdd);
 }
 
-/* The closed chain of cp's links: the open one's spec with its tip
- * pinned at (D, 0), D 0.9 of the links' total length. */
-static int closed_model(const chain_plain *cp, eom_model **out)
-{
-    eom_chain_spec sp;
-    int rc, j;
-    memset(&sp, 0, sizeof sp);
-    sp.links = cp->links;
-    sp.modes_all = cp->modes;
-    sp.m_link = cp->m;
-    sp.L_link = cp->L;
-    sp.EI_link = cp->EI;
-    sp.g = cp->g;
-    sp.closed = 1;
-    for (j = 0; j < cp->links; j++)
-        sp.D += 0.9 * cp->L[j];
-    if ((rc = eom_model_new(out)) != EOM_OK)
-        return rc;
-    if ((rc = eom_chain_add(*out, &sp)) < 0) {
-        eom_model_free(out);
-        return rc;
-    }
-    return EOM_OK;
-}
-
 static eom_system *make(chain_plain *cp, int links, int modes, int closed,
                         double *mv, double *Lv, double *EIv)
 {
@@ -78,8 +52,8 @@ static eom_system *make(chain_plain *cp, int links, int modes, int closed,
     eom_system *s = NULL;
     char msg[256] = "";
     chain_unequal(cp, links, modes, mv, Lv, EIv);
-    if ((closed ? closed_model(cp, &m) : chain_unequal_model(cp, &m)) !=
-            EOM_OK ||
+    if ((closed ? chain_unequal_closed_model(cp, &m)
+                : chain_unequal_model(cp, &m)) != EOM_OK ||
         eom_system_new(&s, m, msg, sizeof msg) != EOM_OK)
         fprintf(stderr, "bench-compiled: set-up failed: %s\n", msg);
     eom_model_free(&m);

@@ -26,10 +26,11 @@ void chain_unequal(chain_plain *c, int links, int modes, double *m,
     c->g = 9.81;
 }
 
-int chain_unequal_model(const chain_plain *c, eom_model **out)
+/* c as a model, open or closed (D 0.9 of the total length). */
+static int model_of(const chain_plain *c, int closed, eom_model **out)
 {
     eom_chain_spec sp;
-    int rc;
+    int rc, j;
     memset(&sp, 0, sizeof sp);
     sp.links = c->links;
     sp.modes_all = c->modes;
@@ -37,6 +38,9 @@ int chain_unequal_model(const chain_plain *c, eom_model **out)
     sp.L_link = c->L;
     sp.EI_link = c->EI;
     sp.g = c->g;
+    sp.closed = closed;
+    for (j = 0; closed && j < c->links; j++)
+        sp.D += 0.9 * c->L[j];
     if ((rc = eom_model_new(out)) != EOM_OK)
         return rc;
     if ((rc = eom_chain_add(*out, &sp)) < 0) {
@@ -44,6 +48,16 @@ int chain_unequal_model(const chain_plain *c, eom_model **out)
         return rc;
     }
     return EOM_OK;
+}
+
+int chain_unequal_model(const chain_plain *c, eom_model **out)
+{
+    return model_of(c, 0, out);
+}
+
+int chain_unequal_closed_model(const chain_plain *c, eom_model **out)
+{
+    return model_of(c, 1, out);
 }
 
 void chain_unequal_state(const chain_plain *c, int n, double *x)
