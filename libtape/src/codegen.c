@@ -259,7 +259,7 @@ int tp__emit_c(const tp_tape *T, int P, int lagrange_out, unsigned sweeps,
         st = tp__emit_lagrange(T, lagrange_out, (int)T->n_indep / 2,
                                (int)T->n_indep / 2, P, b);
     if (st == TP_OK && (sweeps & TP_SWEEP_JACOBIAN))
-        st = tp__emit_jacobian(T, 0, (int)T->n_indep, P, b);
+        st = tp__emit_jacobian(T, P, b);
     if (st == TP_OK && (sweeps & TP_SWEEP_TAYLOR2))
         st = tp__emit_taylor2(T, b);
     tp__sbuf_printf(b,

@@ -59,11 +59,9 @@ int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
 
 /* The Jacobian block (codegen_lagrange.c): the function
  * tpc_jacobian(v, aux, tan) giving the values of every output's cone and
- * the tangent rows of those of its ops that depend on a seeded group,
- * for unit directions on the independents first .. first + count - 1
- * (whole dependency groups, else TP_ERR_SIZE), rows P wide. */
-int tp__emit_jacobian(const tp_tape *T, int first, int count, int P,
-                      tp_sbuf *b);
+ * their tangent rows for unit directions on every independent, rows P
+ * wide. */
+int tp__emit_jacobian(const tp_tape *T, int P, tp_sbuf *b);
 
 /* The Taylor sweep (codegen_taylor.c): the function
  * tpc_taylor2(v, aux, d1, d2, dir) giving the values and the first and
@@ -121,10 +119,9 @@ struct tp_compiled {
     tp_lagrange_fn lagrange;
     int lout, lfirst, lcount;
     unsigned lmask;
-    /* the Jacobian block, or NULL: unit directions on the independents
-     * jfirst .. jfirst + jcount - 1, seeded groups jmask */
+    /* the Jacobian block, or NULL: unit directions on every independent,
+     * seeded groups jmask */
     tp_jacobian_fn jacobian;
-    int jfirst, jcount;
     unsigned jmask;
     tp_taylor2_fn taylor2; /* the Taylor sweep, or NULL */
 };

@@ -549,13 +549,13 @@ int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
     return b->failed ? TP_ERR_NOMEM : TP_OK;
 }
 
-int tp__emit_jacobian(const tp_tape *T, int first, int count, int P,
-                      tp_sbuf *b)
+int tp__emit_jacobian(const tp_tape *T, int P, tp_sbuf *b)
 {
+    const int count = (int)T->n_indep;
     lg g;
     uint32_t i, top;
     int k, nchunk = 0, inchunk = 0;
-    int st = lg_init(&g, T, first, count, P, "jc", b);
+    int st = lg_init(&g, T, 0, count, P, "jc", b);
     if (st != TP_OK)
         return st;
     /* the cone of every output, forward once */
@@ -567,14 +567,14 @@ int tp__emit_jacobian(const tp_tape *T, int first, int count, int P,
     tp__sbuf_puts(b, "#if TPC_PART == 0\n"
                      "TPC_EXPORT void tpc_jacobian(double *restrict v, "
                      "double *restrict aux, double *restrict tan)\n{\n");
-    emit_seeds(b, first, count, P);
+    emit_seeds(b, 0, count, P);
     for (k = 0; k < nchunk; k++)
         tp__sbuf_printf(b, "jc_%d(v, aux, tan, NULL, NULL);\n", k);
     tp__sbuf_printf(b,
                     "(void)v;\n(void)aux;\n}\n"
-                    "TPC_EXPORT const int tpc_jacobian_shape[3] = "
-                    "{%d, %d, %d};\n#endif\n",
-                    first, count, P);
+                    "TPC_EXPORT const int tpc_jacobian_shape[2] = "
+                    "{%d, %d};\n#endif\n",
+                    count, P);
     free(g.need);
     return b->failed ? TP_ERR_NOMEM : TP_OK;
 }

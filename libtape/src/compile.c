@@ -284,8 +284,7 @@ static int load(tp_compiled *c, const char *so, const char *key,
     if (c->sweeps & TP_SWEEP_JACOBIAN) {
         const int *shape = dlsym(c->dl, "tpc_jacobian_shape");
         *(void **)&c->jacobian = dlsym(c->dl, "tpc_jacobian");
-        if (!shape || shape[0] != c->jfirst || shape[1] != c->jcount ||
-            shape[2] != c->P)
+        if (!shape || shape[0] != (int)c->t->n_indep || shape[1] != c->P)
             c->jacobian = NULL;
     }
     c->taylor2 = NULL;
@@ -350,9 +349,9 @@ static int check(const tp_compiled *c, const double *xin,
     const int n = (int)T->n_indep, m = (int)T->n_out;
     const int nq = c->lagrange ? c->lcount : 0;
     /* per path: y[m], g[n]; L, dL/dt, dL/dq[nq], h[nq], M[nq x nq];
-     * y[m], J[m x jcount]; y[m], y1[m], y2[m] */
+     * y[m], J[m x n]; y[m], y1[m], y2[m] */
     const size_t nl = c->lagrange ? 2 + 2 * (size_t)nq + (size_t)nq * nq : 0;
-    const size_t nj = c->jacobian ? (size_t)m * (1 + (size_t)c->jcount) : 0;
+    const size_t nj = c->jacobian ? (size_t)m * (1 + (size_t)n) : 0;
     const size_t nt = c->taylor2 ? 3 * (size_t)m : 0;
     const size_t per = (size_t)m + (size_t)n + nl + nj + nt;
     tp_ws *w[2] = {NULL, NULL};
@@ -389,8 +388,7 @@ static int check(const tp_compiled *c, const double *xin,
             (c->rev1 && tp_vjp(w[k], x, wt, NULL, g) < 0) ||
             (c->lagrange &&
              tp_lagrange_t(w[k], x, c->lout, L, gq, dt, M, h) < 0) ||
-            (c->jacobian && tp_jacobian(w[k], x, c->jfirst, c->jcount, jy,
-                                        J) < 0) ||
+            (c->jacobian && tp_jacobian(w[k], x, 0, n, jy, J) < 0) ||
             (c->taylor2 &&
              tp_taylor2(w[k], x, dir, ty, ty + m, ty + 2 * m) < 0)) {
             say(info, "checking the compiled tape: %s", tp_ws_errmsg(w[k]));
@@ -595,9 +593,7 @@ int tp_compile(const tp_tape *t, const tp_compile_opts *o,
     c->lfirst = c->lcount = (int)t->n_indep / 2;
     for (rc = c->lfirst; rc < c->lfirst + c->lcount; rc++)
         c->lmask |= 1u << t->group[rc];
-    c->jfirst = 0;
-    c->jcount = (int)t->n_indep;
-    for (rc = 0; rc < c->jcount; rc++)
+    for (rc = 0; rc < (int)t->n_indep; rc++)
         c->jmask |= 1u << t->group[rc];
     if (make_dirs(dir) != 0) {
         say(info, "cannot create the cache directory %s: %s", dir,

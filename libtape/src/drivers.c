@@ -130,10 +130,10 @@ static int forward_dirs(tp_ws *ws, const double *x, int p, const double *S,
     const tp_tape *T = ws->t;
     const uint32_t end = end_of(T, NULL);
     const size_t P = (size_t)ws->P;
-    /* the compiled Jacobian block: every direction in one call (its rows
-     * are P >= p wide) */
+    /* the compiled Jacobian block: every independent's direction in one
+     * call (its rows are P >= p wide) */
     const bool block = p > 0 && !S && ws->cc && ws->cc->jacobian &&
-                       first == ws->cc->jfirst && p == ws->cc->jcount;
+                       first == 0 && p == (int)T->n_indep;
     int st = TP_OK, c0, k;
     uint32_t o;
     if (p == 0) {
@@ -321,7 +321,6 @@ int tp_taylor2(tp_ws *ws, const double *x, const double *d, double *y,
     check(&st, y2, T->n_out);
     return st;
 }
-
 
 /* M's columns c0 .. c0 + pc - 1 and h's entries from H, the Hessian
  * columns of one chunk of rate directions (rows: d/dq (n), then d/dqd

@@ -237,8 +237,7 @@ void tp__lagrange_compiled(tp_ws *ws, const double *x, double *g,
                            double *H);
 /* The compiled Jacobian block of ws->cc at x: the values and tangent rows
  * of every output's cone in ws, as tp__fwd1 with unit directions on
- * independents jfirst .. jfirst + jcount - 1 leaves them for the outputs
- * (forward.c). */
+ * every independent leaves them for the outputs (forward.c). */
 void tp__jacobian_compiled(tp_ws *ws, const double *x);
 /* Recompute the passive prefix of v if a parameter changed (forward.c). */
 void tp__ensure_passive(tp_ws *ws);
