@@ -18,13 +18,164 @@
  * from the step's last evaluation, at a nearby state: the correction
  * needs a metric close to M, not M at the corrected point, and this keeps
  * the cost of a step's projection that has work to do at a few small
- * solves. */
+ * solves.
+ *
+ * Velocity constraints psi(q, qd, t) = A(q, t) qd + b(q, t) = 0 (the psi
+ * tape, eom_internal.h) are rows mh .. m-1 of C: A = dpsi/dqd and b, the
+ * value at qd = 0, from one forward Jacobian over the rates at (q, 0, t),
+ * so that they need q alone, as the holonomic rows do. Along the motion,
+ * with qd held (qdd = 0) and the time running,
+ *     d psi/ds = (dA/dq qd) qd + (db/dq) qd + dA/dt qd + db/dt = -gamma
+ * is one tangent sweep of the psi tape in the direction (qd, 0, 1). They
+ * have no position residual: the Newton iteration on q sees the
+ * holonomic rows alone (S's leading mh x mh block, solved densely, when
+ * both kinds are present), and the correction of qd all rows. Linearity
+ * in qd is checked once, when the system is built (A must not depend on
+ * qd: the block d2psi/dqd2 of each row's Hessian is zero). */
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "eom_internal.h"
 
 #define EOM_PROJ_MAXIT 20
+
+/* ---- velocity constraints ----------------------------------------------- */
+
+int eom__refuse_velocity(eom_system *s, const char *what)
+{
+    if (s->mv == 0)
+        return EOM_OK;
+    return eom__fail(s, EOM_ERR_MODEL,
+                     "%s: the model has %d velocity (non-holonomic) "
+                     "constraint%s, which %s does not take", what, s->mv,
+                     s->mv == 1 ? "" : "s", what);
+}
+
+int eom__velocity_rows_at(eom_system *s, double t, const double *q)
+{
+    const int n = s->n, mh = s->mh, mv = s->mv;
+    int st, j;
+    memcpy(s->vx, q, (size_t)n * sizeof(double));
+    memset(s->vx + n, 0, (size_t)n * sizeof(double));
+    st = tp_jacobian(s->tpsi.ws, eom__tape_input(&s->tpsi, s->vx, t), n, n,
+                     s->phit + mh, s->C + (size_t)mh * (size_t)n);
+    for (j = 0; j < mv; j++)
+        s->phi[mh + j] = 0.0;
+    return eom__tape_status(s, st, "the velocity constraints or their "
+                                   "Jacobian");
+}
+
+int eom__velocity_rates(eom_system *s, double t, const double *x,
+                        double *phi, double *phid, double *curv)
+{
+    const int n = s->n, mh = s->mh;
+    int st, j;
+    memcpy(s->vdir, x + n, (size_t)n * sizeof(double));
+    memset(s->vdir + n, 0, (size_t)n * sizeof(double));
+    s->vdir[2 * n] = 1.0; /* read only by a tape with the time */
+    st = tp_jvp(s->tpsi.ws, eom__tape_input(&s->tpsi, x, t), 1, s->vdir,
+                phid + mh, curv + mh);
+    if (phi)
+        for (j = mh; j < s->m; j++)
+            phi[j] = 0.0;
+    return eom__tape_status(s, st, "the velocity constraints or their "
+                                   "rates");
+}
+
+/* The states at which linearity is checked: the model's initial state and
+ * two others about it (pseudo-random, fixed: the check is reproducible). */
+#define EOM_LINEARITY_STATES 3
+
+int eom__check_velocity_rows(eom_system *s)
+{
+    const int n = s->n, mv = s->mv, ni = tp_tape_n_indep(s->tpsi.tape);
+    size_t *rowptr = malloc((size_t)(mv + 1) * sizeof *rowptr);
+    double *H = malloc((size_t)ni * (size_t)n * sizeof *H);
+    double *x = malloc(2 * (size_t)n * sizeof *x);
+    int rc = EOM_OK, st, k, r, i, j;
+    if (!rowptr || !H || !x) {
+        rc = eom__fail(s, EOM_ERR_NOMEM, "out of memory");
+        goto done;
+    }
+    /* a row that does not read qd at all is a constraint on q */
+    st = tp_tape_jacobian_pattern(s->tpsi.tape, n, n, rowptr, NULL, 0);
+    if (st != TP_OK && st != TP_ERR_SIZE) {
+        rc = eom__tape_status(s, st, "the velocity constraints' pattern");
+        goto done;
+    }
+    for (r = 0; r < mv; r++)
+        if (rowptr[r + 1] == rowptr[r]) {
+            rc = eom__fail(s, EOM_ERR_MODEL,
+                           "velocity constraint %d (constraint row %d) "
+                           "does not read the rates qd: a constraint on q "
+                           "alone is holonomic (eom_model_add_constraints)",
+                           r + 1, s->mh + r + 1);
+            goto done;
+        }
+    /* linear in qd: d2psi/dqd2 = 0, exactly (the sweeps of a product with
+     * a factor that does not depend on qd give exact zeros there) */
+    for (k = 0; k < EOM_LINEARITY_STATES; k++) {
+        for (i = 0; i < n; i++) {
+            x[i] = s->coords[i].v0 + (k ? 0.3 * sin(1.7 * i + 2.3 * k) : 0);
+            x[n + i] = s->coords[i].v1 + (k ? 0.7 * cos(1.1 * i + k) : 0);
+        }
+        for (r = 0; r < mv; r++) {
+            st = tp_hessian_cols(s->tpsi.ws,
+                                 eom__tape_input(&s->tpsi, x, 0.25 * k), r,
+                                 n, n, NULL, H);
+            if (st != TP_OK && st != TP_WARN_NONFINITE) {
+                rc = eom__tape_status(s, st, "the velocity constraints' "
+                                             "second derivatives");
+                goto done;
+            }
+            for (i = 0; i < n; i++)
+                for (j = 0; j < n; j++) {
+                    const double h =
+                        H[(size_t)(n + i) * (size_t)n + (size_t)j];
+                    if (h == 0.0 || !isfinite(h))
+                        continue;
+                    rc = eom__fail(
+                        s, EOM_ERR_MODEL,
+                        "velocity constraint %d (constraint row %d) is not "
+                        "linear in the rates: d2/d(%s_dot)d(%s_dot) = %.3g "
+                        "at %s state; a velocity constraint is A(q, t) qd + "
+                        "b(q, t)", r + 1, s->mh + r + 1, s->coords[i].name,
+                        s->coords[j].name, h, k ? "a test" : "the initial");
+                    goto done;
+                }
+        }
+    }
+done:
+    free(rowptr);
+    free(H);
+    free(x);
+    return rc;
+}
+
+/* Solve S_h z = r for the holonomic rows (S's leading mh x mh block, of
+ * the last eom__factor_S) in place, densely, when velocity rows follow
+ * them (the Newton step on q); otherwise with the factor of S. */
+static int solve_holonomic(eom_system *s, double *r)
+{
+    const int mh = s->mh, m = s->m, one = 1;
+    int i, j, info = 0;
+    if (s->mv == 0)
+        return eom__S_solve(s, r);
+    for (j = 0; j < mh; j++)
+        for (i = 0; i < mh; i++)
+            s->Sa[(size_t)j * (size_t)mh + (size_t)i] =
+                s->S[(size_t)j * (size_t)m + (size_t)i];
+    dgesv_(&mh, &one, s->Sa, &mh, s->ipiv, r, &mh, &info);
+    if (info > 0)
+        return eom__fail(s, EOM_ERR_RANK_DEFICIENT,
+                         "projection onto the holonomic constraints: their "
+                         "C W^-1 C^T is singular here (redundant "
+                         "constraints or a singular configuration)");
+    if (info < 0)
+        return eom__fail(s, EOM_ERR_LINALG, "dgesv: argument %d", -info);
+    return EOM_OK;
+}
 
 static double maxabs(const double *a, int n)
 {
@@ -54,7 +205,7 @@ enum metric { METRIC_MASS, METRIC_LAST_MASS, METRIC_IDENTITY };
 static int project(eom_system *s, double t, double *x, double tol,
                    int *iters, enum metric metric, const char *fn)
 {
-    const int n = s ? s->n : 0, m = s ? s->m : 0;
+    const int n = s ? s->n : 0, m = s ? s->m : 0, mh = s ? s->mh : 0;
     int it = 0, rc, st, i, j;
     double res;
     if (iters)
@@ -96,7 +247,7 @@ static int project(eom_system *s, double t, double *x, double tol,
     for (;;) {
         if ((rc = eom__constraints_at(s, t, x)) != EOM_OK)
             return rc;
-        res = maxabs(s->phi, m);
+        res = maxabs(s->phi, mh);
         if (res <= tol)
             break;
         if (it == EOM_PROJ_MAXIT)
@@ -112,17 +263,22 @@ static int project(eom_system *s, double t, double *x, double tol,
                                  : "");
         if ((rc = eom__factor_S(s)) != EOM_OK)
             return rc;
-        memcpy(s->wm, s->phi, (size_t)m * sizeof(double));
-        if ((rc = eom__S_correct(s, x, s->wm)) != EOM_OK)
+        /* x -= Y_h S_h^-1 phi over the holonomic rows (all rows without
+         * velocity rows, whose phi is 0 anyway) */
+        memcpy(s->wm, s->phi, (size_t)mh * sizeof(double));
+        if ((rc = solve_holonomic(s, s->wm)) != EOM_OK)
             return rc;
+        for (j = 0; j < mh; j++)
+            for (i = 0; i < n; i++)
+                x[i] -= s->Y[(size_t)j * (size_t)n + (size_t)i] * s->wm[j];
         it++;
     }
     /* velocities: C qd + dphi/dt = 0, both at the projected q (already in
-     * s->C and s->phit) */
+     * s->C and s->phit), and A qd + b = 0 for the velocity rows */
     if ((rc = eom__factor_S(s)) != EOM_OK)
         return rc;
     for (j = 0; j < m; j++) {
-        double sum = s->tphi.tindex >= 0 ? s->phit[j] : 0.0;
+        double sum = s->tphi.tindex >= 0 || j >= mh ? s->phit[j] : 0.0;
         for (i = 0; i < n; i++)
             sum += s->C[(size_t)j * (size_t)n + (size_t)i] * x[n + i];
         s->wm[j] = sum;

@@ -39,7 +39,7 @@ int eom_energy_at(eom_system *s, double t, const double *x, eom_energy *e)
         e->T = s->wE[0];
         e->V = s->wE[1];
     }
-    if (s->tphi.tindex >= 0) {
+    if (s->tphi.tindex >= 0 || s->mv > 0) {
         /* the constraint forces' power needs the multipliers: the whole
          * evaluation */
         if ((rc = eom__evaluate(s, t, x)) != EOM_OK)

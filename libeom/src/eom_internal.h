@@ -9,14 +9,28 @@
  *              one per probe. Only for reporting.
  *   R tape     x = (q, qd); output "R". dR/dqd by a reverse sweep.
  *   Q tape     (q, qd, t), groups 0, 1, 2; n outputs. Zero-order sweep.
- *   phi tape   q; m outputs. C by a forward Jacobian, gamma by one
+ *   phi tape   q; mh outputs. C by a forward Jacobian, gamma by one
  *              second-order Taylor sweep along qd.
+ *   psi tape   (q, qd), groups 0, 1; mv outputs, the velocity
+ *              constraints A(q) qd + b(q), each linear in qd (checked
+ *              when the system is built). A = dpsi/dqd and b = psi at
+ *              qd = 0 by one forward Jacobian; psi and dpsi/ds along
+ *              (qd, 0) by one tangent sweep (constraints.c).
+ *
+ * The constraint rows of a system are the mh holonomic rows of the phi
+ * tape followed by the mv velocity rows of the psi tape, m = mh + mv in
+ * all: C (m x n) is [dphi/dq; A], and every array of the range-space
+ * solve has the m rows. A velocity row has no position residual: its
+ * phi entry is 0, its phit entry is b (so that C qd + phit is psi, the
+ * velocity residual of every row), and its curvature entry is
+ * dpsi/ds (gamma = -dpsi/ds).
  *
  * Explicit time (rheonomic models, rheonomic.c). A tape whose callbacks
  * never call eom_time is recorded exactly as above. Otherwise the time
  * takes the place its derivatives need: on the L and phi tapes it is one
  * more independent, last, in group 2 (x = (q, qd, t) and (q, t)), since
- * the equations need d2L/dqd dt, dL/dt, dphi/dt and d2phi/dt2; on the E
+ * the equations need d2L/dqd dt, dL/dt, dphi/dt and d2phi/dt2 (and on
+ * the psi tape, x = (q, qd, t), for dpsi/dt); on the E
  * and R tapes, which are only evaluated or differentiated in (q, qd), it
  * is a parameter named EOM_TIME_NAME, set before each sweep.
  */
@@ -77,8 +91,10 @@ struct eom_model {
     int n_coords, n_params, n_probes;
     int cap_coords, cap_params, cap_probes;
     eom_cblist T, V, R, phi;
+    eom_cblist psi; /* velocity constraint blocks */
     eom_callback L, Q;
     int n_con;      /* total over the constraint blocks */
+    int n_vcon;     /* total over the velocity constraint blocks */
     eom_attached *att;
     int n_att, cap_att;
     int status;
@@ -89,7 +105,8 @@ struct eom_model {
 typedef enum eom_role {
     EOM_ROLE_STATE, /* q, qd: T, V, L, R, probes */
     EOM_ROLE_FORCE, /* q, qd, t */
-    EOM_ROLE_CONSTRAINT /* q only */
+    EOM_ROLE_CONSTRAINT, /* q only */
+    EOM_ROLE_VCONSTRAINT /* q, qd, t: velocity constraints, linear in qd */
 } eom_role;
 
 /* What eom_time gives in a recording. */
@@ -141,7 +158,7 @@ typedef struct eom_tape {
 
 /* How many systems share one set of tapes: the last one frees them.
  * Clones may be freed by different threads, hence atomic. */
-#define EOM_N_TAPES 6 /* L, E, R, Q, phi, residual: eom__tapes */
+#define EOM_N_TAPES 7 /* L, E, R, Q, phi, residual, psi: eom__tapes */
 typedef struct eom_shared {
     atomic_int refs;
     tp_compiled *cc[EOM_N_TAPES]; /* compiled tapes, or NULL */
@@ -149,12 +166,17 @@ typedef struct eom_shared {
 
 struct eom_system {
     int n, m, np, nprobe;
+    int mh, mv;       /* holonomic and velocity rows, m = mh + mv */
     bool has_tv, has_R, has_Q;
-    bool reads_time;  /* the L, E, R or phi tape reads the time */
+    bool reads_time;  /* the L, E, R, phi or psi tape reads the time */
     double time;      /* the time of the calls that take no t */
     eom_named *coords, *params, *probes; /* copies (fn unused) */
     double *pval;                        /* parameter values in use */
     eom_tape tL, tE, tR, tQ, tphi;
+    eom_tape tpsi;    /* velocity constraints (mv > 0), interpreted */
+    double *vx;       /* 2n + 1: a sweep's input (q, qd) of the psi tape */
+    double *vdir;     /* 2n + 1: its direction (qd, 0, 1) */
+    int *ipiv;        /* mh: pivots of the holonomic block's solve */
     /* the residual tape (residual.c): z = (q, qd, qdd, lambda, t, p); its
      * workspace and the Jacobian's scratch are made on first use */
     eom_tape tRes;
@@ -181,8 +203,9 @@ struct eom_system {
     double *Qv;    /* n  non-conservative forces -dR/dqd + Q */
     double *C;     /* m x n */
     double *phi;   /* m */
-    double *phid;  /* m  C qd (+ dphi/dt) */
-    double *phit;  /* m  dphi/dt at fixed q (0 unless phi reads time) */
+    double *phid;  /* m  C qd (+ dphi/dt); psi for velocity rows */
+    double *phit;  /* m  dphi/dt at fixed q (0 unless phi reads time);
+                      b for velocity rows */
     double *Ct;    /* m x (n + 1) scratch: C and dphi/dt in one Jacobian */
     double *dir;   /* n + 1: the Taylor direction (qd, 1) in (q, t) */
     double dLdt;   /* dL/dt at fixed (q, qd), last evaluation */
@@ -195,7 +218,8 @@ struct eom_system {
     double power;  /* dE/dt at the last evaluation: qd . Qv, and for a
                       model that reads time also -dL/dt and, when the
                       constraints read it, lambda . (C qd) */
-    double power_t; /* the part of power due to the explicit time */
+    double power_t; /* the part of power due to the explicit time and
+                       the velocity constraints' forces */
 
     /* KLU for S: dense pattern in compressed columns, analyzed once */
     int *Sp, *Si;
@@ -374,6 +398,21 @@ static inline const double *eom__tape_input(eom_tape *et, const double *x,
  * phid and curv (m each): one Taylor sweep. */
 int eom__constraint_rates(eom_system *s, double t, const double *x,
                           double *phi, double *phid, double *curv);
+/* constraints.c: EOM_ERR_MODEL with a message naming what (a call or a
+ * method) when s has velocity constraints, which what does not take. */
+int eom__refuse_velocity(eom_system *s, const char *what);
+/* constraints.c: the velocity rows at (t, q): A into rows mh .. m-1 of
+ * s->C, b into s->phit's, 0 into s->phi's. */
+int eom__velocity_rows_at(eom_system *s, double t, const double *q);
+/* constraints.c: the velocity rows' residual psi into phid[mh ..] and its
+ * rate along (qd, 0, 1) into curv[mh ..]; phi[mh ..] = 0 (phi may be
+ * NULL). */
+int eom__velocity_rates(eom_system *s, double t, const double *x,
+                        double *phi, double *phid, double *curv);
+/* constraints.c: the linearity of the velocity constraints in qd
+ * (EOM_ERR_MODEL naming the first row that is not, or that does not read
+ * qd at all). */
+int eom__check_velocity_rows(eom_system *s);
 /* rheonomic.c: EOM_ERR_MODEL with a message naming what when the
  * Lagrangian, the dissipation or the constraints read the time. */
 int eom__refuse_time(eom_system *s, const char *what);
@@ -421,8 +460,8 @@ int eom__S_correct(eom_system *s, double *v, double *r);
 int eom__svd(eom_system *s, int rows, int cols, double *A, double *sv,
              double *U, double *VT, const char *what);
 
-/* The system's tapes in a fixed order: L, E, R, Q, phi, residual (the
- * order of eom_shared.cc). */
+/* The system's tapes in a fixed order: L, E, R, Q, phi, residual, psi
+ * (the order of eom_shared.cc). */
 void eom__tapes(eom_system *s, eom_tape *t[EOM_N_TAPES]);
 
 /* Status with a message in s (first argument printf-style). */

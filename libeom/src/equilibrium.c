@@ -336,7 +336,8 @@ int eom_equilibrium(eom_system *s, double *q, double tol, int *iters)
     if (!eom__finite(q, (size_t)s->n))
         return eom__fail(s, EOM_ERR_NONFINITE,
                          "eom_equilibrium: q is not finite");
-    if ((rc = eom__refuse_time(s, "eom_equilibrium")) != EOM_OK)
+    if ((rc = eom__refuse_time(s, "eom_equilibrium")) != EOM_OK ||
+        (rc = eom__refuse_velocity(s, "eom_equilibrium")) != EOM_OK)
         return rc;
     block = work_new(&w, s->n, s->m);
     if (!block)

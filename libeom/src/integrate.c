@@ -447,6 +447,21 @@ int eom__integ_create(eom_integ **out, eom_system *s, const eom_opts *o,
         return rc;
     if ((rc = check_sens(o, s, s->msg, sizeof s->msg)) != EOM_OK)
         return rc;
+    /* velocity constraints: the methods that integrate the accelerations
+     * of the range-space solve take them; ida's residual form and the
+     * sensitivities come from the residual tape of holonomic rows */
+    if (s->mv > 0 && o->method == EOM_IDA)
+        return eom__fail(s, EOM_ERR_MODEL,
+                         "ida: the model has velocity (non-holonomic) "
+                         "constraints, which ida's index-reduced DAE of "
+                         "holonomic constraints does not take; rk4, erk, "
+                         "adams, bdf, esdirk and imex do");
+    if (s->mv > 0 && o->n_sens > 0)
+        return eom__fail(s, EOM_ERR_MODEL,
+                         "%s: sensitivities are not integrated for a model "
+                         "with velocity (non-holonomic) constraints; rk4, "
+                         "erk, adams, bdf, esdirk and imex integrate it "
+                         "without them", eom_method_name(o->method));
     it = calloc(1, sizeof *it);
     if (!it)
         return EOM_ERR_NOMEM;
@@ -460,6 +475,10 @@ int eom__integ_create(eom_integ **out, eom_system *s, const eom_opts *o,
     it->o.atol_vec = NULL;
     it->o.erk_table = NULL;
     it->o.sens = NULL;
+    /* no exact Jacobian with velocity rows (no residual tape): bdf and
+     * esdirk difference them */
+    if (s->mv > 0 && (o->method == EOM_BDF || o->method == EOM_ESDIRK))
+        it->o.dq_jacobian = 1;
     if (o->n_sens > 0) {
         int k;
         it->sens = malloc((size_t)o->n_sens * sizeof *it->sens);

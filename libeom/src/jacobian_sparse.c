@@ -390,8 +390,10 @@ static int ready(eom_system *s)
     if (s->jsp)
         return EOM_OK;
     if (!s->tRes.tape)
-        return eom__fail(s, EOM_ERR_MODEL,
-                         "the system has no residual tape");
+        return s->mv > 0 ? eom__refuse_velocity(s, "the sparse iteration "
+                                                   "matrix")
+                         : eom__fail(s, EOM_ERR_MODEL,
+                                     "the system has no residual tape");
     if (!(s->jsp = calloc(1, sizeof *s->jsp)))
         return eom__fail(s, EOM_ERR_NOMEM,
                          "out of memory for the sparse Jacobian");

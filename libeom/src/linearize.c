@@ -394,7 +394,8 @@ int eom_linearize(eom_system *s, const double *q, eom_linear *lin)
     if (!eom__finite(q, (size_t)s->n))
         return eom__fail(s, EOM_ERR_NONFINITE,
                          "eom_linearize: q is not finite");
-    if ((rc = eom__refuse_time(s, "eom_linearize")) != EOM_OK)
+    if ((rc = eom__refuse_time(s, "eom_linearize")) != EOM_OK ||
+        (rc = eom__refuse_velocity(s, "eom_linearize")) != EOM_OK)
         return rc;
     lin->n = s->n;
     lin->M = calloc((size_t)s->n * (size_t)s->n, sizeof(double));

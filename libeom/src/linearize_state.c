@@ -165,6 +165,8 @@ int eom_linearize_state(eom_system *s, double t, const double *x,
         return eom__fail(s, EOM_ERR_NULL,
                          "eom_linearize_state: x or lin is NULL");
     memset(lin, 0, sizeof *lin);
+    if ((rc = eom__refuse_velocity(s, "eom_linearize_state")) != EOM_OK)
+        return rc;
     n2 = 2 * s->n;
     np = s->np;
     m = s->m;

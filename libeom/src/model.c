@@ -81,6 +81,7 @@ void eom_model_free(eom_model **m)
     free((*m)->V.v);
     free((*m)->R.v);
     free((*m)->phi.v);
+    free((*m)->psi.v);
     for (i = 0; i < (*m)->n_att; i++)
         (*m)->att[i].free_fn((*m)->att[i].data);
     free((*m)->att);
@@ -364,6 +365,29 @@ int eom_model_add_constraints(eom_model *m, int count, eom_vector_fn phi,
                               void *user)
 {
     return constraint_cb(m, count, phi, user, false);
+}
+
+int eom_model_add_velocity_constraints(eom_model *m, int count,
+                                       eom_vector_fn psi, void *user)
+{
+    eom_callback cb;
+    int rc;
+    if (!m)
+        return EOM_ERR_NULL;
+    if (!psi)
+        return model_fail(m, EOM_ERR_NULL,
+                          "velocity constraint function is NULL");
+    if (count < 1 || count > 100000)
+        return model_fail(m, EOM_ERR_ARG, "velocity constraint count %d",
+                          count);
+    memset(&cb, 0, sizeof cb);
+    cb.fn.vector = psi;
+    cb.user = user;
+    cb.count = count;
+    rc = push_cb(m, &m->psi, cb, false, "velocity constraint");
+    if (rc == EOM_OK)
+        m->n_vcon += count;
+    return rc;
 }
 
 /* ---- the recording context -------------------------------------------- */

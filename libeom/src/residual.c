@@ -372,8 +372,10 @@ static int jac_ready(eom_system *s)
     if (s->tRes.ws)
         return EOM_OK;
     if (!s->tRes.tape)
-        return eom__fail(s, EOM_ERR_MODEL,
-                         "the system has no residual tape");
+        return s->mv > 0 ? eom__refuse_velocity(s, "the exact Jacobian of "
+                                                   "the equations")
+                         : eom__fail(s, EOM_ERR_MODEL,
+                                     "the system has no residual tape");
     /* after a failure here, what was made is kept for the next try */
     if (!s->jz)
         s->jz = malloc((3 * n + m + 1 + (size_t)s->np) * sizeof(double));

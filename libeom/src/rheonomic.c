@@ -37,6 +37,11 @@ int eom__constraint_rates(eom_system *s, double t, const double *x,
     const int n = s->n;
     const double *dir = x + n;
     int st;
+    if (s->mv > 0) {
+        int rc = eom__velocity_rates(s, t, x, phi, phid, curv);
+        if (rc != EOM_OK || s->mh == 0)
+            return rc;
+    }
     if (s->tphi.tindex >= 0) {
         memcpy(s->dir, x + n, (size_t)n * sizeof(double));
         s->dir[n] = 1.0;
@@ -49,13 +54,15 @@ int eom__constraint_rates(eom_system *s, double t, const double *x,
 
 int eom__refuse_time(eom_system *s, const char *what)
 {
-    if (s->tL.tindex < 0 && s->tR.tparam < 0 && s->tphi.tindex < 0)
+    if (s->tL.tindex < 0 && s->tR.tparam < 0 && s->tphi.tindex < 0 &&
+        s->tpsi.tindex < 0)
         return EOM_OK;
     return eom__fail(s, EOM_ERR_MODEL,
                      "%s: the time appears in the model's %s (a rheonomic "
                      "model has no state of rest)", what,
-                     s->tL.tindex >= 0   ? "Lagrangian"
+                     s->tL.tindex >= 0     ? "Lagrangian"
                      : s->tphi.tindex >= 0 ? "constraints"
+                     : s->tpsi.tindex >= 0 ? "velocity constraints"
                                            : "dissipation");
 }
 

@@ -18,7 +18,10 @@
  *   dE/dt = qd . (-dR/dqd + Q) - dL/dt + lambda . (C qd)
  * (the last term, the power of the constraint forces, is
  * -lambda . dphi/dt on the constraints; it is counted only when they read
- * the time: a fixed constraint does no work).
+ * the time: a fixed constraint does no work; for velocity rows, -lambda .
+ * b on them, it is always counted). Velocity rows (constraints.c) enter
+ * C as A = dpsi/dqd with gamma = -dpsi/ds along (qd, 0, 1) and, having no
+ * position residual, phi = 0 in the Baumgarte term.
  *
  * Storage: M is symmetric, so its row-major array is also LAPACK's
  * column-major one. C (m x n, row-major) read column-major is C^T, so
@@ -234,8 +237,13 @@ int eom__mass_solve(eom_system *s, double *B, int nrhs)
 
 int eom__constraints_at(eom_system *s, double t, const double *q)
 {
-    const int n = s->n, m = s->m;
+    const int n = s->n, m = s->mh;
     int st, j;
+    if (s->mv > 0) {
+        int rc = eom__velocity_rows_at(s, t, q);
+        if (rc != EOM_OK || m == 0)
+            return rc;
+    }
     if (s->tphi.tindex < 0) {
         st = tp_jacobian(s->tphi.ws, q, 0, n, s->phi, s->C);
         return eom__tape_status(s, st, "the constraints or their Jacobian");
@@ -478,11 +486,11 @@ int eom__evaluate(eom_system *s, double t, const double *x)
                 s->qdd[i] += s->Y[(size_t)j * (size_t)n + (size_t)i] *
                              s->lam[j];
         /* moving constraints do work: lambda . (C qd), the power of the
-         * constraint force C^T lambda */
-        if (s->tphi.tindex >= 0)
-            for (j = 0; j < m; j++)
-                s->power_t += s->lam[j] * dot(s->C + (size_t)j * (size_t)n,
-                                              qd, n);
+         * constraint force C^T lambda; so do velocity constraints with b
+         * != 0 (lambda . (A qd) = -lambda . b on them, 0 for b = 0) */
+        for (j = s->tphi.tindex >= 0 ? 0 : s->mh; j < m; j++)
+            s->power_t += s->lam[j] * dot(s->C + (size_t)j * (size_t)n,
+                                          qd, n);
     }
     s->power += s->power_t;
     if (!eom__finite(s->qdd, (size_t)n))

@@ -208,6 +208,21 @@ static int body_phi(eom_ctx *c)
     return 0;
 }
 
+/* The velocity constraint blocks, stacked in the order they were added,
+ * as outputs psi1, psi2, ... */
+static int body_psi(eom_ctx *c)
+{
+    const eom_cblist *list = &c->m->psi;
+    int k, first = 0;
+    for (k = 0; k < list->n; k++) {
+        if (body_vector(c, &list->v[k], list->v[k].count, first,
+                        "velocity constraint", "psi", 0))
+            return 1;
+        first += list->v[k].count;
+    }
+    return 0;
+}
+
 int eom_model_run_lagrangian(const eom_model *m, tp_rec *r, const double *x)
 {
     eom_ctx c;
@@ -313,17 +328,13 @@ static int record_once(eom_system *s, const eom_model *m, eom_tape *et,
 
 static void tape_free(eom_tape *et, bool last);
 
-/* The five tapes of a system that has recorded none yet: no time. */
+/* The tapes of a system that has recorded none yet: no time. */
 static void tapes_init(eom_system *s)
 {
-    eom_tape *t[5];
+    eom_tape *t[EOM_N_TAPES];
     int k;
-    t[0] = &s->tL;
-    t[1] = &s->tE;
-    t[2] = &s->tR;
-    t[3] = &s->tQ;
-    t[4] = &s->tphi;
-    for (k = 0; k < 5; k++) {
+    eom__tapes(s, t);
+    for (k = 0; k < EOM_N_TAPES; k++) {
         t[k]->tindex = -1;
         t[k]->tparam = -1;
         t[k]->tset = NAN;
@@ -399,6 +410,7 @@ void eom_system_free(eom_system **sp)
     tape_free(&s->tR, last);
     tape_free(&s->tQ, last);
     tape_free(&s->tphi, last);
+    tape_free(&s->tpsi, last);
     /* the sparse Jacobian's workspace replays the residual tape: first */
     eom__jsparse_free(&s->jsp);
     eom__ssparse_free(&s->ssp);
@@ -451,6 +463,9 @@ void eom_system_free(eom_system **sp)
     free(s->jres);
     free(s->jB);
     free(s->jy);
+    free(s->vx);
+    free(s->vdir);
+    free(s->ipiv);
     free(s);
     *sp = NULL;
 }
@@ -502,6 +517,15 @@ static int alloc_arrays(eom_system *s)
     s->wn = calloc(2 * n + 1, sizeof(double));
     s->wm = calloc(mm, sizeof(double));
     s->wE = calloc((size_t)s->nprobe + 2, sizeof(double));
+    if (s->mv > 0) {
+        s->vx = calloc(2 * n + 1, sizeof(double));
+        s->vdir = calloc(2 * n + 1, sizeof(double));
+        if (!s->vx || !s->vdir)
+            return eom__fail(s, EOM_ERR_NOMEM, "out of memory");
+    }
+    if (s->mh > 0 && s->mv > 0 &&
+        !(s->ipiv = calloc((size_t)s->mh, sizeof(int))))
+        return eom__fail(s, EOM_ERR_NOMEM, "out of memory");
     if (!s->pval || !s->M || !s->Mf || !s->g || !s->h || !s->F || !s->qdd ||
         !s->gR || !s->Qv || !s->C || !s->phi || !s->phid ||
         !s->phit || !s->Ct || !s->dir || !s->gam || !s->Y || !s->S ||
@@ -587,7 +611,9 @@ int eom_system_new(eom_system **out, const eom_model *m, char *errmsg,
     if (!s)
         return EOM_ERR_NOMEM;
     s->n = m->n_coords;
-    s->m = m->phi.n > 0 ? m->n_con : 0;
+    s->mh = m->phi.n > 0 ? m->n_con : 0;
+    s->mv = m->psi.n > 0 ? m->n_vcon : 0;
+    s->m = s->mh + s->mv;
     s->np = m->n_params;
     s->nprobe = m->n_probes;
     s->has_tv = !m->L.set;
@@ -627,16 +653,23 @@ int eom_system_new(eom_system **out, const eom_model *m, char *errmsg,
     if (s->has_Q && (rc = record(s, m, &s->tQ, EOM_ROLE_FORCE, body_Q,
                                  "forces", 1, false)) != EOM_OK)
         goto fail;
-    if (s->m > 0) {
-        if ((rc = record(s, m, &s->tphi, EOM_ROLE_CONSTRAINT, body_phi,
-                         "constraints", s->n, true)) != EOM_OK)
-            goto fail;
-        if ((rc = setup_klu(s)) != EOM_OK)
-            goto fail;
-    }
+    if (s->mh > 0 &&
+        (rc = record(s, m, &s->tphi, EOM_ROLE_CONSTRAINT, body_phi,
+                     "constraints", s->n, true)) != EOM_OK)
+        goto fail;
+    if (s->mv > 0 &&
+        ((rc = record(s, m, &s->tpsi, EOM_ROLE_VCONSTRAINT, body_psi,
+                      "velocity constraints", s->n, true)) != EOM_OK ||
+         (rc = eom__check_velocity_rows(s)) != EOM_OK))
+        goto fail;
+    if (s->m > 0 && (rc = setup_klu(s)) != EOM_OK)
+        goto fail;
     s->reads_time = s->tL.tindex >= 0 || s->tE.tparam >= 0 ||
-                    s->tR.tparam >= 0 || s->tphi.tindex >= 0;
-    if ((rc = eom__record_residual(s)) != EOM_OK)
+                    s->tR.tparam >= 0 || s->tphi.tindex >= 0 ||
+                    s->tpsi.tindex >= 0;
+    /* the residual tape holds holonomic rows only: a system with
+     * velocity rows has none, and the calls that need it refuse */
+    if (s->mv == 0 && (rc = eom__record_residual(s)) != EOM_OK)
         goto fail;
     s->msg[0] = '\0';
     *out = s;
@@ -691,6 +724,8 @@ int eom_system_clone(eom_system **out, const eom_system *s, char *errmsg,
         return EOM_ERR_NOMEM;
     c->n = s->n;
     c->m = s->m;
+    c->mh = s->mh;
+    c->mv = s->mv;
     c->np = s->np;
     c->nprobe = s->nprobe;
     c->has_tv = s->has_tv;
@@ -720,7 +755,8 @@ int eom_system_clone(eom_system **out, const eom_system *s, char *errmsg,
         (rc = clone_tape(c, &c->tE, &s->tE)) != EOM_OK ||
         (rc = clone_tape(c, &c->tR, &s->tR)) != EOM_OK ||
         (rc = clone_tape(c, &c->tQ, &s->tQ)) != EOM_OK ||
-        (rc = clone_tape(c, &c->tphi, &s->tphi)) != EOM_OK)
+        (rc = clone_tape(c, &c->tphi, &s->tphi)) != EOM_OK ||
+        (rc = clone_tape(c, &c->tpsi, &s->tpsi)) != EOM_OK)
         goto fail;
     /* the residual tape's workspace is made on first use */
     c->tRes.tape = s->tRes.tape;
@@ -732,7 +768,8 @@ int eom_system_clone(eom_system **out, const eom_system *s, char *errmsg,
         rc = eom__fail(c, EOM_ERR_NOMEM, "out of memory");
         goto fail;
     }
-    memcpy(c->tRes.pmap, s->tRes.pmap, (size_t)c->np * sizeof(int));
+    if (s->tRes.pmap)
+        memcpy(c->tRes.pmap, s->tRes.pmap, (size_t)c->np * sizeof(int));
     if (c->m > 0 && (rc = setup_klu(c)) != EOM_OK)
         goto fail;
     if (s->compiled &&
@@ -834,6 +871,7 @@ void eom__tapes(eom_system *s, eom_tape *t[EOM_N_TAPES])
     t[3] = &s->tQ;
     t[4] = &s->tphi;
     t[5] = &s->tRes;
+    t[6] = &s->tpsi;
 }
 
 int eom_set_param(eom_system *s, int k, double value)

@@ -19,7 +19,9 @@
  * of M, KLU of S = C M^-1 C^T); the terms in t vanish for a model that
  * does not read the time, and cost nothing then. The velocities satisfy
  * C qd + dphi/dt = 0. Sign convention: the generalized constraint force is
- * C^T lambda, added to the applied forces.
+ * C^T lambda, added to the applied forces. Velocity constraints
+ * A(q, t) qd + b(q, t) = 0 add rows A to C (after the holonomic ones) with
+ * gamma = -(d/ds) psi(q + s qd, qd, t + s).
  *
  * State vectors are x = (q, qd), 2n values. Conventions as in libtape:
  * status 0 success, > 0 warning, < 0 error; constructors write through
@@ -142,6 +144,22 @@ EOM_API int eom_model_set_constraints(eom_model *m, int count,
                                       eom_vector_fn phi, void *user);
 EOM_API int eom_model_add_constraints(eom_model *m, int count,
                                       eom_vector_fn phi, void *user);
+/* Velocity constraints A(q, t) qd + b(q, t) = 0 (non-holonomic: a wheel
+ * that rolls without slipping, a knife edge): count values of q, qd and
+ * the time, each linear in qd (checked when the system is built: a row
+ * that is not linear in the rates, or does not read them, is refused
+ * with EOM_ERR_MODEL and a message naming the row). add_ appends a block
+ * after any earlier block; rows are stacked after every holonomic row.
+ * Their rows of C are A = dpsi/dqd, their gamma is -dpsi/ds along (qd,
+ * qdd = 0, t-rate 1), their Baumgarte term -2 alpha psi; they have no
+ * position residual (phi = 0) and are projected at the velocity level
+ * only. eom_linearize, eom_linearize_state, eom_equilibrium, the exact
+ * Jacobians (eom_state_jacobian, eom_param_jacobian), ida and
+ * sensitivities refuse a model with them (EOM_ERR_MODEL); bdf and esdirk
+ * take them with difference-quotient Jacobians (docs/integrators.md). */
+EOM_API int eom_model_add_velocity_constraints(eom_model *m, int count,
+                                               eom_vector_fn psi,
+                                               void *user);
 /* Give the model data to free with it (for example an element's
  * description that its callbacks read). free_fn(data) is called by
  * eom_model_free; on failure it is called at once. */
@@ -244,6 +262,7 @@ EOM_API int eom_system_set_compiled(eom_system *s, int on,
 EOM_API int eom_system_compiled(const eom_system *s);
 
 EOM_API int eom_system_ncoords(const eom_system *s);
+/* Constraint rows m: the holonomic ones, then the velocity ones. */
 EOM_API int eom_system_nconstraints(const eom_system *s);
 EOM_API int eom_system_nparams(const eom_system *s);
 EOM_API int eom_system_nprobes(const eom_system *s);
@@ -278,8 +297,9 @@ EOM_API double eom_get_param(const eom_system *s, int k);
 EOM_API int eom_initial_state(const eom_system *s, double *x);
 
 /* Baumgarte stabilization of the constraints at acceleration level:
- * C qdd = gamma - 2 alpha (C qd + dphi/dt) - beta^2 phi. Both 0 (the
- * default) turns it off. alpha, beta >= 0, in 1/s. */
+ * C qdd = gamma - 2 alpha (C qd + dphi/dt) - beta^2 phi (for velocity
+ * constraints, A qdd = gamma - 2 alpha psi). Both 0 (the default) turns
+ * it off. alpha, beta >= 0, in 1/s. */
 EOM_API int eom_set_baumgarte(eom_system *s, double alpha, double beta);
 
 /* The time at which the calls that take no t argument (eom_mass_matrix,
@@ -329,7 +349,8 @@ EOM_API int eom_dae_pattern_size(eom_system *s, int *unknowns,
 
 /* Quantities at a state; each evaluates what it needs. */
 EOM_API int eom_mass_matrix(eom_system *s, const double *x, double *M);
-/* C = dphi/dq (m x n) and phi (m, may be NULL) at q = x[0..n). */
+/* C = dphi/dq (m x n) and phi (m, may be NULL) at q = x[0..n); for a
+ * velocity row, A and phi = 0. */
 EOM_API int eom_constraint_jacobian(eom_system *s, const double *x,
                                     double *C, double *phi);
 /* The multipliers lambda (m) at (t, x): the generalized constraint force
@@ -338,7 +359,8 @@ EOM_API int eom_multipliers(eom_system *s, double t, const double *x,
                             double *lambda);
 /* Constraint residuals: phi (m) and the velocity residual C qd +
  * dphi/dt (m; C qd for constraints that do not read the time); either
- * may be NULL. */
+ * may be NULL. A velocity row has phi = 0 and velocity residual psi =
+ * A qd + b. */
 EOM_API int eom_residuals(eom_system *s, const double *x, double *phi,
                           double *phidot);
 /* Reciprocal condition estimates (1-norm, LAPACK dpocon and KLU's rcond)
@@ -357,8 +379,10 @@ typedef struct eom_energy {
     double Pt;    /* the part of P due to the explicit time: -dL/dt (at
                      fixed q, qd), plus lambda . (C qd), the power of the
                      constraint forces, when the constraints read the
-                     time (= -lambda . dphi/dt on them); 0 for a model
-                     that does not read the time */
+                     time (= -lambda . dphi/dt on them), and lambda .
+                     (A qd) for velocity constraints (= -lambda . b on
+                     them: 0 when b = 0); 0 for a model that does not
+                     read the time and has no velocity constraints */
 } eom_energy;
 EOM_API int eom_energy_at(eom_system *s, double t, const double *x,
                           eom_energy *e);
