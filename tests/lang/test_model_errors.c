@@ -25,8 +25,8 @@ typedef struct err_case {
 static const err_case cases[] = {
     {"unknown name, nearest suggested", HEAD "T = 1/2*m*x_dto^2\n", 3, 11,
      "unknown name 'x_dto'", "did you mean 'x_dot'?"},
-    {"unknown function", HEAD "T = 1/2*m*x_dot^2\nV = m*9.81*frob(x)\n", 4,
-     12, "unknown function 'frob'", "the functions are sqrt"},
+    {"unknown function", HEAD "T = 1/2*m*x_dot^2\nV = m*9.81*zzyzx(x)\n", 4,
+     12, "unknown function 'zzyzx'", "the functions are sqrt"},
     {"misspelled function", HEAD "T = 1/2*m*x_dot^2\nV = m*9.81*x*cso(0)\n",
      4, 14, "unknown function 'cso'", "did you mean 'cos'?"},
     {"defined twice", HEAD "param m = 2 [kg]\nT = 1/2*m*x_dot^2\n", 3, 7,

@@ -19,7 +19,18 @@ typedef struct lang_cb {
     int sym;  /* constraint or probe symbol, or -1 */
     int stmt; /* energy statement, or -1 */
     int flat; /* probe: member of the family */
+    int comp; /* probe: component of a vector or matrix (0: a scalar's) */
 } lang_cb;
+
+/* The suffix of component k of a value of n components: a vector's
+ * x y z, a matrix's xx xy .. zz (row, then column). */
+static const char *comp_suffix(int n, int k)
+{
+    static const char *const vs[3] = {"x", "y", "z"};
+    static const char *const ms[9] = {"xx", "xy", "xz", "yx", "yy",
+                                      "yz", "zx", "zy", "zz"};
+    return n == SH_VEC ? vs[k] : ms[k];
+}
 
 static void inst_free(void *v)
 {
@@ -35,6 +46,7 @@ static void inst_free(void *v)
     free(in->ival);
     free(in->ival_set);
     free(in->memo);
+    free(in->arena);
     free(in->pmemo);
     free(in->pmemo_epoch);
     free(in->cbs);
@@ -361,7 +373,12 @@ static int cb_probe(eom_ctx *c, void *user, tp_val *out)
     snprintf(what, sizeof what, "the probe %s", y->name);
     lang_begin(in, c, EOM_ROLE_STATE, what);
     bind_member(in, cb->sym, cb->flat, idx);
-    if (lang_eval(in, y->value, &v) < 0)
+    if (y->shape > SH_SCALAR) {
+        ldvec w;
+        if (lang_eval_d(in, y->value, &w, 0) < 0)
+            return cb_fail(c, in);
+        v = w.x[cb->comp].v;
+    } else if (lang_eval(in, y->value, &v) < 0)
         return cb_fail(c, in);
     unbind(in, cb->sym);
     *out = lang_tape(in, v);
@@ -375,6 +392,7 @@ static lang_cb *new_cb(lang_inst *in, int s, int stmt, int flat)
     cb->sym = s;
     cb->stmt = stmt;
     cb->flat = flat;
+    cb->comp = 0;
     return cb;
 }
 
@@ -387,7 +405,9 @@ static int add_callbacks(lang_inst *in, eom_model *m)
         ncb++;
     for (k = 0; k < p->nsyms; k++)
         if (p->syms[k].kind == S_PROBE)
-            ncb += in->fam[k].size;
+            ncb += in->fam[k].size * (p->syms[k].shape > SH_SCALAR
+                                          ? p->syms[k].shape
+                                          : 1);
         else if (p->syms[k].kind == S_CONSTRAINT)
             ncb++;
     in->cbs = calloc((size_t)ncb, sizeof *in->cbs);
@@ -426,10 +446,24 @@ static int add_callbacks(lang_inst *in, eom_model *m)
             continue;
         for (j = 0; j < in->fam[k].size && rc >= 0; j++) {
             long idx[LANG_MAX_IDX];
+            const int nc = y->shape > SH_SCALAR ? y->shape : 1;
+            int comp;
             bind_member(in, k, j, idx);
             member_name(y, idx, name, sizeof name);
-            rc = eom_model_add_probe(m, name, y->unit[0] ? y->unit : NULL,
-                                     cb_probe, new_cb(in, k, -1, j));
+            /* a vector or matrix probe: a column per component, NAME_x */
+            for (comp = 0; comp < nc && rc >= 0; comp++) {
+                char cname[LANG_MAX_NAME + 56];
+                lang_cb *cb = new_cb(in, k, -1, j);
+                cb->comp = comp;
+                if (nc > 1)
+                    snprintf(cname, sizeof cname, "%s_%s", name,
+                             comp_suffix(nc, comp));
+                else
+                    snprintf(cname, sizeof cname, "%s", name);
+                rc = eom_model_add_probe(m, cname,
+                                         y->unit[0] ? y->unit : NULL,
+                                         cb_probe, cb);
+            }
         }
         unbind(in, k);
     }

@@ -76,6 +76,7 @@ void lang_begin(lang_inst *in, eom_ctx *ctx, int role, const char *what)
             in->pmemo_epoch[k] = 0;
         in->epoch = 1;
     }
+    in->narena = 0; /* the components of the last recording's values */
     if (ctx)
         ctx->lang_run = in->epoch;
 }
@@ -341,14 +342,76 @@ static int find_clause(lang_inst *in, int s, const long *idx, int tok,
     return -1;
 }
 
-static int def_ref(lang_inst *in, const node *nd, lval *out)
+int lang_arena(lang_inst *in, int n)
+{
+    int at = in->narena;
+    if (lang_grow((void **)&in->arena, &in->cap_arena, at + n,
+                  sizeof *in->arena, 1 << 28) != 0)
+        return -1;
+    in->narena += n;
+    return at;
+}
+
+/* An entry of an earlier recording holds nothing of this one. */
+static void memo_fresh(lang_inst *in, memo_entry *e)
+{
+    if (e->epoch == in->epoch)
+        return;
+    e->epoch = in->epoch;
+    e->state = 0;
+    e->dstate = 0;
+    e->vslot = -1;
+    e->dslot = -1;
+}
+
+static int memo_cycle(lang_inst *in, const node *nd, const long *idx)
 {
     const lang_prog *p = in->p;
     const sym *y = &p->syms[nd->sym];
+    char it[80], hint[400];
+    idx_text(idx, y->nidx, it, sizeof it);
+    snprintf(hint, sizeof hint,
+             "follow the definitions from line %d: one of them uses "
+             "%s%s%s%s again; a recurrence must reach a base case",
+             p->toks[y->tok].line, y->name, y->nidx ? "[" : "", it,
+             y->nidx ? "]" : "");
+    lang_fail(in, nd->tok, hint, "%s%s%s%s depends on itself (a cycle "
+              "among definitions)", y->name, y->nidx ? "[" : "", it,
+              y->nidx ? "]" : "");
+    return -1;
+}
+
+/* Copy a memoized value (and derivative) of e out. */
+static void memo_get(lang_inst *in, const memo_entry *e, int shape,
+                     int want_d, lval *sout, ldvec *vout)
+{
+    int k;
+    if (!vout) {
+        *sout = e->val;
+        return;
+    }
+    vout->n = shape;
+    for (k = 0; k < shape; k++) {
+        vout->x[k].v = shape == SH_SCALAR ? e->val : in->arena[e->vslot + k];
+        memset(&vout->x[k].d, 0, sizeof vout->x[k].d);
+        vout->x[k].d.k = 1;
+        if (want_d)
+            vout->x[k].d = in->arena[e->dslot + k];
+    }
+}
+
+int lang_def_ref(lang_inst *in, const node *nd, lval *sout, ldvec *vout,
+                 int want_d)
+{
+    const lang_prog *p = in->p;
+    const sym *y = &p->syms[nd->sym];
+    const int shape = y->shape ? y->shape : SH_SCALAR;
     long idx[LANG_MAX_IDX], saved[LANG_MAX_IDX];
     uint8_t saved_set[LANG_MAX_IDX];
     int32_t key[LANG_MAX_IDX] = {0};
     memo_entry *e;
+    ldvec body;
+    lval sval;
     int c, k, rc;
     if (indices(in, nd, idx) < 0)
         return -1;
@@ -364,28 +427,25 @@ static int def_ref(lang_inst *in, const node *nd, lval *out)
         lang_fail(in, nd->tok, NULL, "out of memory");
         return -1;
     }
-    if (e->epoch == in->epoch && e->state == 2) {
-        *out = e->val;
+    memo_fresh(in, e);
+    if (want_d ? e->dstate == 2 : e->state == 2) {
+        memo_get(in, e, shape, want_d, sout, vout);
         return 0;
     }
-    if (e->epoch == in->epoch && e->state == 1) {
-        char it[80], hint[400];
-        idx_text(idx, y->nidx, it, sizeof it);
-        snprintf(hint, sizeof hint,
-                 "follow the definitions from line %d: one of them uses "
-                 "%s%s%s%s again; a recurrence must reach a base case",
-                 p->toks[y->tok].line, y->name, y->nidx ? "[" : "", it,
-                 y->nidx ? "]" : "");
-        lang_fail(in, nd->tok, hint, "%s%s%s%s depends on itself (a cycle "
-                  "among definitions)", y->name, y->nidx ? "[" : "", it,
-                  y->nidx ? "]" : "");
-        return -1;
-    }
-    e->epoch = in->epoch;
-    e->state = 1;
+    if (want_d ? e->dstate == 1 : e->state == 1)
+        return memo_cycle(in, nd, idx);
+    if (want_d)
+        e->dstate = 1;
+    else
+        e->state = 1;
     if ((c = find_clause(in, nd->sym, idx, nd->tok, saved, saved_set)) < 0)
         return -1;
-    rc = lang_eval(in, p->clauses[c].body, out);
+    /* a scalar's value alone takes the scalar walker (the path of every
+     * planar model, unchanged); the rest the walker of shapes */
+    if (!want_d && shape == SH_SCALAR)
+        rc = lang_eval(in, p->clauses[c].body, &sval);
+    else
+        rc = lang_eval_d(in, p->clauses[c].body, &body, want_d);
     for (k = 0; k < p->clauses[c].nidx; k++)
         if (p->clauses[c].idx[k].var >= 0) {
             in->ival[p->clauses[c].idx[k].var] = saved[k];
@@ -399,9 +459,34 @@ static int def_ref(lang_inst *in, const node *nd, lval *out)
         lang_fail(in, nd->tok, NULL, "out of memory");
         return -1;
     }
-    e->epoch = in->epoch;
-    e->state = 2;
-    e->val = *out;
+    memo_fresh(in, e);
+    if (!want_d && shape == SH_SCALAR) {
+        e->val = sval;
+        e->state = 2;
+        memo_get(in, e, shape, 0, sout, vout);
+        return 0;
+    }
+    if (e->state != 2) { /* the value, unless known already */
+        if (shape == SH_SCALAR)
+            e->val = body.x[0].v;
+        else if ((e->vslot = lang_arena(in, shape)) < 0) {
+            lang_fail(in, nd->tok, NULL, "out of memory");
+            return -1;
+        }
+        for (k = 0; k < shape && shape != SH_SCALAR; k++)
+            in->arena[e->vslot + k] = body.x[k].v;
+        e->state = 2;
+    }
+    if (want_d) {
+        if ((e->dslot = lang_arena(in, shape)) < 0) {
+            lang_fail(in, nd->tok, NULL, "out of memory");
+            return -1;
+        }
+        for (k = 0; k < shape; k++)
+            in->arena[e->dslot + k] = body.x[k].d;
+        e->dstate = 2;
+    }
+    memo_get(in, e, shape, want_d, sout, vout);
     return 0;
 }
 
@@ -436,31 +521,73 @@ static int name_ref(lang_inst *in, const node *nd, lval *out)
     case R_PARAM: return param_ref(in, nd, out);
     case R_COORD:
     case R_RATE: return coord_ref(in, nd, out);
-    case R_DEF: return def_ref(in, nd, out);
+    case R_DEF: return lang_def_ref(in, nd, out, NULL, 0);
     default:
         lang_fail(in, nd->tok, NULL, "internal error: an unresolved name");
         return -1;
     }
 }
 
+/* A name's value and, with want_d, its time derivative: a coordinate's
+ * is its rate, the time's 1, the rest's 0. A rate has none here: der()
+ * of an expression that holds rates would need accelerations. */
+int lang_name_d(lang_inst *in, const node *nd, ldual *out, int want_d)
+{
+    memset(&out->d, 0, sizeof out->d);
+    out->d.k = 1;
+    if (want_d && nd->ref == R_RATE) {
+        lang_fail(in, nd->tok,
+                  "der() differentiates positions and angles; the rates "
+                  "it gives are their derivatives: write der() of the "
+                  "position, not of a velocity",
+                  "der() of an expression that holds the rate %s_dot",
+                  in->p->syms[nd->sym].name);
+        return -1;
+    }
+    if (name_ref(in, nd, &out->v) < 0)
+        return -1;
+    if (!want_d)
+        return 0;
+    if (nd->ref == R_TIME)
+        out->d.c = 1.0;
+    else if (nd->ref == R_COORD) {
+        long idx[LANG_MAX_IDX];
+        int flat;
+        if (in->role == EOM_ROLE_CONSTRAINT) {
+            lang_fail(in, nd->tok,
+                      "a holonomic constraint phi(q, t) = 0 reads no rates; "
+                      "a constraint on the rates is written `velocity "
+                      "constraint NAME = ...`",
+                      "der() cannot appear in %s", in->what);
+            return -1;
+        }
+        if (indices(in, nd, idx) < 0 ||
+            (flat = lang_family_index(in, nd->sym, idx, nd->tok)) < 0)
+            return -1;
+        flat += in->fam[nd->sym].first;
+        out->d = tape(eom_qd(in->ctx, flat));
+    }
+    return 0;
+}
+
 /* ---- operators --------------------------------------------------------- */
 
-static int need_const(lang_inst *in, const node *nd, lval a, lval b,
+static int need_const(lang_inst *in, int tok, lval a, lval b,
                       const char *what)
 {
     if (a.k && b.k)
         return 0;
-    lang_fail(in, nd->tok,
+    lang_fail(in, tok,
               "it decides the model's structure, so it may use numbers, "
               "settings and indices, not coordinates or parameters",
               "%s must be known when the file is read", what);
     return -1;
 }
 
-static int binary(lang_inst *in, const node *nd, lval a, lval b, lval *out)
+int lang_arith(lang_inst *in, int op, int tok, lval a, lval b, lval *out)
 {
     tp_rec *r = in->r;
-    switch (nd->op) {
+    switch (op) {
     case TK_PLUS:
         if (a.k && b.k)
             *out = konst(a.c + b.c);
@@ -494,7 +621,7 @@ static int binary(lang_inst *in, const node *nd, lval a, lval b, lval *out)
         return 0;
     case TK_SLASH:
         if (b.k && b.c == 0.0) {
-            lang_fail(in, nd->tok, NULL, "division by zero");
+            lang_fail(in, tok, NULL, "division by zero");
             return -1;
         }
         if (a.k && b.k)
@@ -525,9 +652,9 @@ static int binary(lang_inst *in, const node *nd, lval a, lval b, lval *out)
         }
         return 0;
     default:
-        if (need_const(in, nd, a, b, "a comparison") < 0)
+        if (need_const(in, tok, a, b, "a comparison") < 0)
             return -1;
-        switch (nd->op) {
+        switch (op) {
         case TK_EQ: *out = konst(a.c == b.c); break;
         case TK_NE: *out = konst(a.c != b.c); break;
         case TK_LT: *out = konst(a.c < b.c); break;
@@ -539,12 +666,13 @@ static int binary(lang_inst *in, const node *nd, lval a, lval b, lval *out)
     }
 }
 
-static int call(lang_inst *in, const node *nd, lval a, lval b, lval *out)
+int lang_func(lang_inst *in, int fn, lval a, lval b, lval *out)
 {
     tp_rec *r = in->r;
-    if (a.k && (nd->nkids == 1 || b.k)) {
+    const int two = fn == F_ATAN2 || fn == F_HYPOT;
+    if (a.k && (!two || b.k)) {
         double x = a.c, y = b.c, v;
-        switch (nd->op) {
+        switch (fn) {
         case F_SQRT: v = sqrt(x); break;
         case F_EXP: v = exp(x); break;
         case F_LOG: v = log(x); break;
@@ -567,7 +695,7 @@ static int call(lang_inst *in, const node *nd, lval a, lval b, lval *out)
     }
     {
         tp_val x = lang_tape(in, a), y;
-        switch (nd->op) {
+        switch (fn) {
         case F_SQRT: *out = tape(tp_sqrt(r, x)); break;
         case F_EXP: *out = tape(tp_exp(r, x)); break;
         case F_LOG: *out = tape(tp_log(r, x)); break;
@@ -632,6 +760,20 @@ static int sum(lang_inst *in, const node *nd, lval *out)
     return 0;
 }
 
+/* A scalar made by functions of vectors (dot, norm, a component, der):
+ * its own frame, so that the scalar walker's frames stay small. */
+#if defined(__GNUC__)
+__attribute__((noinline))
+#endif
+static int via_vector(lang_inst *in, int n, lval *out)
+{
+    ldvec v;
+    if (lang_eval_d(in, n, &v, 0) < 0)
+        return -1;
+    *out = v.x[0].v;
+    return 0;
+}
+
 int lang_eval(lang_inst *in, int n, lval *out)
 {
     const lang_prog *p = in->p;
@@ -666,20 +808,25 @@ int lang_eval(lang_inst *in, int n, lval *out)
     case N_BIN:
         if ((rc = lang_eval(in, p->kids[nd->kids], &a)) == 0 &&
             (rc = lang_eval(in, p->kids[nd->kids + 1], &b)) == 0)
-            rc = binary(in, nd, a, b, out);
+            rc = lang_arith(in, nd->op, nd->tok, a, b, out);
         break;
+    case N_COMP: rc = via_vector(in, n, out); break;
     case N_CALL:
+        if (nd->op >= F_FIRST_SPATIAL) {
+            rc = via_vector(in, n, out);
+            break;
+        }
         if ((rc = lang_eval(in, p->kids[nd->kids], &a)) == 0 &&
             (nd->nkids < 2 ||
              (rc = lang_eval(in, p->kids[nd->kids + 1], &b)) == 0))
-            rc = call(in, nd, a, b, out);
+            rc = lang_func(in, nd->op, a, b, out);
         break;
     case N_SUM: rc = sum(in, nd, out); break;
     case N_IF:
         if ((rc = lang_eval(in, p->kids[nd->kids], &a)) == 0) {
             memset(&b, 0, sizeof b);
             b.k = 1;
-            if ((rc = need_const(in, nd, a, b, "the condition of if()")) ==
+            if ((rc = need_const(in, nd->tok, a, b, "the condition of if()")) ==
                 0)
                 rc = lang_eval(in, p->kids[nd->kids + (a.c != 0.0 ? 1 : 2)],
                                out);

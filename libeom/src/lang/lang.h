@@ -60,7 +60,8 @@ typedef enum tok_kind {
     TK_LT,
     TK_LE,
     TK_GT,
-    TK_GE
+    TK_GE,
+    TK_DOT /* '.' before a letter: a component, as in r.x or I.xy */
 } tok_kind;
 
 typedef struct token {
@@ -80,8 +81,14 @@ typedef enum node_kind {
     N_BIN,   /* a op b (op: a tok_kind of + - * / ^ or a comparison) */
     N_CALL,  /* function op (a lang_fn), kids = arguments */
     N_SUM,   /* sum(var in a..b, body): kids = {a, b, body} */
-    N_IF     /* if(cond, a, b): kids = {cond, a, b} */
+    N_IF,    /* if(cond, a, b): kids = {cond, a, b} */
+    N_COMP   /* a component of a vector or matrix: kids = {value}, op =
+                the component (0..2 of a vector, 3*row+col of a matrix) */
 } node_kind;
+
+/* The shape of a value (shape.c): a scalar, a 3-vector or a 3x3 matrix
+ * (row-major). SH_ANY: not known yet (a recurrence's own reference). */
+enum { SH_SCALAR = 1, SH_VEC = 3, SH_MAT = 9, SH_ANY = 0 };
 
 /* What a resolved name refers to. */
 typedef enum ref_kind {
@@ -101,6 +108,7 @@ typedef struct node {
     uint8_t op;
     uint8_t ref;    /* ref_kind, for N_NAME */
     uint8_t nkids;
+    uint8_t shape;  /* SH_*, set by shape.c */
     int32_t tok;    /* token that places it in the file */
     int32_t kids;   /* first index in prog.kids */
     int32_t sym;    /* N_NAME: symbol (or index variable) */
@@ -111,12 +119,18 @@ typedef struct node {
 /* Built-in functions (N_CALL op). */
 typedef enum lang_fn {
     F_SQRT, F_EXP, F_LOG, F_SIN, F_COS, F_TAN, F_ASIN, F_ACOS, F_ATAN,
-    F_SINH, F_COSH, F_TANH, F_ABS, F_SQR, F_ATAN2, F_HYPOT, F_COUNT
+    F_SINH, F_COSH, F_TANH, F_ABS, F_SQR, F_ATAN2, F_HYPOT,
+    /* vectors, matrices, rotations and time derivatives (vector.c,
+     * tangent.c); not reserved names: a value may be called norm */
+    F_VEC, F_MAT, F_DIAG, F_DOT, F_CROSS, F_NORM, F_TRANSPOSE, F_ROTX,
+    F_ROTY, F_ROTZ, F_ROT, F_QUAT, F_DER, F_ANGVEL_BODY, F_ANGVEL_SPACE,
+    F_COUNT
 } lang_fn;
+#define F_FIRST_SPATIAL F_VEC
 
 typedef struct fn_info {
     const char *name;
-    int arity;
+    int arity; /* -1: mat(), which takes 9 scalars or 3 rows */
 } fn_info;
 extern const fn_info lang_fns[F_COUNT];
 
@@ -172,6 +186,8 @@ typedef struct sym {
     int32_t last_clause;
     dim d;                 /* definitions: dimension (units.c) */
     uint8_t dim_state;     /* 0 not computed, 1 in progress, 2 done */
+    uint8_t shape;         /* definitions and probes: SH_* (shape.c) */
+    uint8_t shape_state;   /* 0 not computed, 1 in progress, 2 done */
 } sym;
 
 /* One defining equation of a definition: NAME[binders] = body. */
@@ -254,6 +270,9 @@ int lang_lex(lang_prog *p, char *err, size_t len);
 int lang_parse(lang_prog *p, char *err, size_t len);
 int lang_resolve(lang_prog *p, char *err, size_t len);
 int lang_units(lang_prog *p, char *err, size_t len);
+int lang_shapes(lang_prog *p, char *err, size_t len);
+/* "a scalar", "a vector", "a matrix" */
+const char *lang_shape_name(int shape);
 
 /* Units: parse a unit string (as written between brackets). Returns 0, or
  * -1 with the offending symbol copied to bad. */
@@ -288,12 +307,26 @@ typedef struct lval {
     int k;
 } lval;
 
+/* A value and its total time derivative (konst 0 when not asked for). */
+typedef struct ldual {
+    lval v, d;
+} ldual;
+
+/* A value of any shape: n = 1, 3 or 9 components (a matrix row-major). */
+typedef struct ldvec {
+    int n;
+    ldual x[9];
+} ldvec;
+
 typedef struct memo_entry {
     int32_t sym; /* -1: empty */
     int32_t idx[LANG_MAX_IDX];
     uint32_t epoch;
-    uint8_t state; /* 1 being evaluated, 2 done */
-    lval val;
+    uint8_t state;  /* 1 being evaluated, 2 done */
+    uint8_t dstate; /* the same for the time derivative (der()) */
+    lval val;       /* a scalar's value */
+    int32_t vslot;  /* a vector's or matrix's components in inst->arena */
+    int32_t dslot;  /* the time derivative's components in inst->arena */
 } memo_entry;
 
 /* What a declared family became: its index ranges and the model index of
@@ -315,6 +348,9 @@ typedef struct lang_inst {
     memo_entry *memo;
     unsigned memo_mask, memo_used;
     uint32_t epoch;
+    lval *arena;            /* components of memoized vectors and time
+                               derivatives, this recording's only */
+    int narena, cap_arena;
     lval *pmemo;            /* [nparams] parameter values this recording */
     uint32_t *pmemo_epoch;
     /* the recording in progress (r == NULL: constants only) */
@@ -334,6 +370,38 @@ typedef struct lang_inst {
 /* Evaluate node n (in constants-only mode when inst->r is NULL). Returns
  * 0, or -1 with inst->failed set and the message in inst->err. */
 int lang_eval(lang_inst *in, int n, lval *out);
+/* Node n of any shape (tangent.c). With want_d, also its total time
+ * derivative sum_i dv/dq_i qd_i + dv/dt, recorded as a forward tangent
+ * of the recorded value (the rates are the coordinates' tangents, 1 the
+ * time's); without, the derivatives are konst 0 and record nothing. */
+int lang_eval_d(lang_inst *in, int n, ldvec *out, int want_d);
+/* A name that is not a definition, with its derivative (emit.c). */
+int lang_name_d(lang_inst *in, const struct node *nd, ldual *out,
+                int want_d);
+/* Arithmetic of two scalars with constants folded (emit.c): op is a
+ * tok_kind of + - * / ^; tok places an error. */
+int lang_arith(lang_inst *in, int op, int tok, lval a, lval b, lval *out);
+/* A scalar function of one or two scalars (F_SQRT .. F_HYPOT). */
+int lang_func(lang_inst *in, int fn, lval a, lval b, lval *out);
+/* The same on values with derivatives (tangent.c): the chain rule, with
+ * nothing recorded for a derivative that is konst 0. */
+int lang_darith(lang_inst *in, int op, int tok, ldual a, ldual b,
+                ldual *out);
+int lang_dfunc(lang_inst *in, int fn, int tok, ldual a, ldual b,
+               ldual *out);
+/* Functions of vectors and matrices on evaluated arguments (vector.c):
+ * args[k] is argument k; out gets the node's shape. */
+int lang_spatial(lang_inst *in, const struct node *nd, const ldvec *args,
+                 ldvec *out);
+/* Products and sums of values of any shape (vector.c), by shape. */
+int lang_vbinary(lang_inst *in, int op, int tok, const ldvec *a,
+                 const ldvec *b, ldvec *out);
+/* A definition's value (sout for a scalar without want_d, else vout),
+ * memoized per recording and index; its derivative is memoized apart. */
+int lang_def_ref(lang_inst *in, const struct node *nd, lval *sout,
+                 ldvec *vout, int want_d);
+/* Room for n components in inst->arena: the offset, or -1. */
+int lang_arena(lang_inst *in, int n);
 /* A constant, integral value of node n (an index, a range end). */
 int lang_eval_int(lang_inst *in, int n, const char *what, long *out);
 /* v on the tape (a constant becomes tp_const). */

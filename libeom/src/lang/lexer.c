@@ -237,6 +237,10 @@ int lang_lex(lang_prog *p, char *err, size_t len)
                 t.len = two == '=' ? 2 : 1;
                 break;
             case '.':
+                if (isalpha((unsigned char)two) || two == '_') {
+                    t.kind = TK_DOT; /* a component: r.x */
+                    break;
+                }
                 if (two != '.')
                     goto bad;
                 t.kind = TK_DOTDOT;

@@ -12,7 +12,7 @@
 /* Deepest expression tree (operators inside operators): the walkers that
  * record and check an expression recurse this deep. */
 #define MAX_TREE 2000
-#define MAX_ARGS 8
+#define MAX_ARGS 9
 
 typedef struct parser {
     lang_prog *p;
@@ -260,11 +260,50 @@ static int primary(parser *ps)
     return new_node(ps, N_NAME, tok, NULL, 0);
 }
 
-/* primary ['^' unary]: right-associative, binds tighter than unary minus
+/* The component letters after '.': x, y, z of a vector, xx .. zz of a
+ * matrix (row, then column); the index (3*row + col for a matrix, plus
+ * 16 to mark two letters), or -1. */
+static int component(const char *s, int len)
+{
+    int k, v = 0;
+    if (len < 1 || len > 2)
+        return -1;
+    for (k = 0; k < len; k++) {
+        if (s[k] < 'x' || s[k] > 'z')
+            return -1;
+        v = 3 * v + (s[k] - 'x');
+    }
+    return len == 2 ? v + 16 : v;
+}
+
+/* primary {'.' component}: r.x, I.xy, p[j].z */
+static int postfix(parser *ps)
+{
+    int a = primary(ps);
+    while (a >= 0 && kind(ps) == TK_DOT) {
+        const token *t;
+        int c;
+        ps->pos++;
+        t = cur(ps);
+        c = t->kind == TK_ID ? component(ps->p->text + t->off, t->len) : -1;
+        if (c < 0)
+            return fail(ps, ps->pos,
+                        "a vector's components are .x .y .z; a matrix's "
+                        ".xx .xy .xz .yx ... .zz (row, then column)",
+                        "expected a component after '.'");
+        if ((a = new_node(ps, N_COMP, ps->pos, &a, 1)) < 0)
+            return -1;
+        ps->p->nodes[a].op = (uint8_t)c;
+        ps->pos++;
+    }
+    return a;
+}
+
+/* postfix ['^' unary]: right-associative, binds tighter than unary minus
  * on its left (-x^2 is -(x^2)) and accepts one on its right (x^-2). */
 static int power(parser *ps)
 {
-    int a = primary(ps), b, kids[2], op;
+    int a = postfix(ps), b, kids[2], op;
     if (a < 0)
         return -1;
     if (kind(ps) != TK_CARET)

@@ -20,6 +20,15 @@ const fn_info lang_fns[F_COUNT] = {
     [F_COSH] = {"cosh", 1},   [F_TANH] = {"tanh", 1},
     [F_ABS] = {"abs", 1},     [F_SQR] = {"sqr", 1},
     [F_ATAN2] = {"atan2", 2}, [F_HYPOT] = {"hypot", 2},
+    [F_VEC] = {"vec", 3},     [F_MAT] = {"mat", -1},
+    [F_DIAG] = {"diag", 3},   [F_DOT] = {"dot", 2},
+    [F_CROSS] = {"cross", 2}, [F_NORM] = {"norm", 1},
+    [F_TRANSPOSE] = {"transpose", 1},
+    [F_ROTX] = {"rotx", 1},   [F_ROTY] = {"roty", 1},
+    [F_ROTZ] = {"rotz", 1},   [F_ROT] = {"rot", 2},
+    [F_QUAT] = {"quat", 4},   [F_DER] = {"der", 1},
+    [F_ANGVEL_BODY] = {"angvel_body", 1},
+    [F_ANGVEL_SPACE] = {"angvel_space", 1},
 };
 
 /* ---- a name table (open addressing) ------------------------------------ */
@@ -133,7 +142,9 @@ static int check_new_name(resolver *rs, int k)
                   "a name cannot end in _dot");
         return -1;
     }
-    for (f = 0; f < F_COUNT; f++)
+    /* the functions of vectors came later: files that name a value
+     * norm or dot keep working (a call is still the function) */
+    for (f = 0; f < F_FIRST_SPATIAL; f++)
         if (strcmp(s->name, lang_fns[f].name) == 0 ||
             strcmp(s->name, "sum") == 0) {
             lang_diag(rs->p, s->tok, rs->err, rs->len, "choose another name",
@@ -343,7 +354,7 @@ static int name_ref(resolver *rs, int n)
 {
     lang_prog *p = rs->p;
     node *nd = &p->nodes[n];
-    char name[LANG_MAX_NAME + 1], sugg[LANG_MAX_NAME + 8], hint[200];
+    char name[LANG_MAX_NAME + 1], sugg[LANG_MAX_NAME + 8], hint[400];
     size_t len;
     int k, v;
     lang_tok_text(p, nd->tok, name, sizeof name);
@@ -429,7 +440,7 @@ static int call(resolver *rs, int n)
 {
     lang_prog *p = rs->p;
     node *nd = &p->nodes[n];
-    char name[LANG_MAX_NAME + 1], sugg[LANG_MAX_NAME + 8], hint[200];
+    char name[LANG_MAX_NAME + 1], sugg[LANG_MAX_NAME + 8], hint[400];
     int k;
     lang_tok_text(p, nd->tok, name, sizeof name);
     for (k = 0; k < nd->nkids; k++)
@@ -439,7 +450,16 @@ static int call(resolver *rs, int n)
     for (k = 0; k < F_COUNT; k++)
         if (strcmp(name, lang_fns[k].name) == 0) {
             nd->op = (uint8_t)k;
-            if (nd->nkids != lang_fns[k].arity) {
+            if (k == F_MAT && nd->nkids != 9 && nd->nkids != 3) {
+                lang_diag(p, nd->tok, rs->err, rs->len,
+                          "write mat(a11, a12, a13, a21, ..., a33) or "
+                          "mat(row1, row2, row3) with three vectors",
+                          "mat takes 9 numbers or 3 rows, not %d "
+                          "argument%s", (int)nd->nkids,
+                          nd->nkids == 1 ? "" : "s");
+                return -1;
+            }
+            if (k != F_MAT && nd->nkids != lang_fns[k].arity) {
                 lang_diag(p, nd->tok, rs->err, rs->len, NULL,
                           "%s takes %d argument%s, not %d", name,
                           lang_fns[k].arity,
@@ -459,7 +479,9 @@ static int call(resolver *rs, int n)
     else
         snprintf(hint, sizeof hint,
                  "the functions are sqrt exp log sin cos tan asin acos atan "
-                 "sinh cosh tanh abs sqr atan2 hypot, and sum and if");
+                 "sinh cosh tanh abs sqr atan2 hypot, sum and if, der, and "
+                 "vec mat diag dot cross norm transpose rotx roty rotz rot "
+                 "quat angvel_body angvel_space");
     lang_diag(p, nd->tok, rs->err, rs->len, hint, "unknown function '%s'",
               name);
     return -1;

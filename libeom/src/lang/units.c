@@ -271,6 +271,115 @@ static int def_dim(checker *ck, int k, dim *out)
     return 0;
 }
 
+/* a * b (add 1) or a / b (add -1) */
+static int dim_mul(checker *ck, int tok, dim a, dim b, int sign, dim *out)
+{
+    int k;
+    if (a.any && b.any) {
+        *out = any_dim();
+        return 0;
+    }
+    if (a.any)
+        a = no_dim();
+    if (b.any)
+        b = no_dim();
+    for (k = 0; k < DIM_N; k++) {
+        int v = a.e[k] + sign * b.e[k];
+        if (v > 100 || v < -100) {
+            lang_diag(ck->p, tok, ck->err, ck->len, NULL,
+                      "a unit power beyond 50");
+            return -1;
+        }
+        a.e[k] = (int8_t)v;
+    }
+    *out = a;
+    return 0;
+}
+
+/* Kid k of node n must be a pure number (an angle, a rotation). */
+static int pure_kid(checker *ck, int n, int k, dim *d)
+{
+    const lang_prog *p = ck->p;
+    const node *nd = &p->nodes[n];
+    int kid = p->kids[nd->kids + k];
+    char da[80];
+    if (dim_of(ck, kid, d) < 0)
+        return -1;
+    if (dimensionless(*d))
+        return 0;
+    lang_dim_format(*d, da, sizeof da);
+    lang_diag(p, p->nodes[kid].tok, ck->err, ck->len,
+              nd->op == F_ANGVEL_BODY || nd->op == F_ANGVEL_SPACE
+                  ? "a rotation matrix is a pure number: build it with "
+                    "rotx(), roty(), rotz(), rot() or quat()"
+                  : "angles are in rad, quaternions pure numbers",
+              "%s() needs a pure number, not %s", lang_fns[nd->op].name,
+              da);
+    return -1;
+}
+
+/* The functions of vectors and matrices: every component of a value has
+ * the one unit of the value. */
+static int spatial_dim(checker *ck, int n, dim *out)
+{
+    lang_prog *p = ck->p;
+    const node *nd = &p->nodes[n];
+    const int nk = nd->nkids, fn = nd->op;
+    dim a, b;
+    int k;
+    switch (fn) {
+    case F_VEC:
+    case F_MAT:
+    case F_DIAG:
+        *out = any_dim();
+        for (k = 0; k < nk; k++) {
+            if (dim_of(ck, p->kids[p->nodes[n].kids + k], &a) < 0)
+                return -1;
+            if (!lang_dim_equal(*out, a))
+                return mismatch(ck, p->nodes[p->kids[p->nodes[n].kids + k]].tok,
+                                a, *out,
+                                "in one vector or matrix with");
+            if (!a.any)
+                *out = a;
+        }
+        return 0;
+    case F_DOT:
+    case F_CROSS:
+        if (dim_of(ck, p->kids[nd->kids], &a) < 0 ||
+            dim_of(ck, p->kids[p->nodes[n].kids + 1], &b) < 0)
+            return -1;
+        return dim_mul(ck, p->nodes[n].tok, a, b, 1, out);
+    case F_NORM:
+    case F_TRANSPOSE:
+        return dim_of(ck, p->kids[nd->kids], out);
+    case F_ROT:
+        if (dim_of(ck, p->kids[nd->kids], &a) < 0 || pure_kid(ck, n, 1, &b))
+            return -1;
+        *out = no_dim();
+        return 0;
+    case F_DER:
+        if (dim_of(ck, p->kids[nd->kids], &a) < 0)
+            return -1;
+        b = no_dim();
+        b.e[2] = 2;
+        return dim_mul(ck, p->nodes[n].tok, a.any ? no_dim() : a, b, -1,
+                       out);
+    case F_ANGVEL_BODY:
+    case F_ANGVEL_SPACE:
+        if (pure_kid(ck, n, 0, &a) < 0)
+            return -1;
+        *out = no_dim();
+        out->e[2] = -2;
+        return 0;
+    default: /* rotx roty rotz quat: of pure numbers, pure numbers */
+        for (k = 0; k < nk; k++)
+            if (pure_kid(ck, n, k, &a) < 0)
+                return -1;
+        *out = no_dim();
+        return 0;
+    }
+}
+
 static int dim_of(checker *ck, int n, dim *out)
 {
     lang_prog *p = ck->p;
@@ -380,7 +489,14 @@ static int dim_of(checker *ck, int n, dim *out)
             break;
         }
         break;
+    case N_COMP:
+        rc = dim_of(ck, p->kids[nd->kids], out);
+        break;
     case N_CALL:
+        if (nd->op >= F_FIRST_SPATIAL) {
+            rc = spatial_dim(ck, n, out);
+            break;
+        }
         if (dim_of(ck, p->kids[nd->kids], &a) < 0) {
             rc = -1;
             break;
