@@ -168,6 +168,24 @@ static const err_case cases[] = {
      "units off\nparam m = 1\ncoord x = 0\nT = 1/2*m*der(der(x))^2\n", 4,
      15, "der() of an expression that already holds rates",
      "accelerations"},
+    {"a velocity constraint not linear in the rates",
+     "units off\nparam m = 1\ncoord x = 0\ncoord y = 0\n"
+     "T = 1/2*m*(x_dot^2 + y_dot^2)\n"
+     "velocity constraint skid = x_dot*sin(y_dot) - y_dot\n", 6, 34,
+     "the velocity constraint skid is not linear in the rates here",
+     "A(q, t) qd + b(q, t) = 0"},
+    {"a velocity constraint with a product of rates",
+     "units off\nparam m = 1\ncoord x = 0\ncoord y = 0\n"
+     "T = 1/2*m*(x_dot^2 + y_dot^2)\n"
+     "a = x*y_dot\nvelocity constraint skid = y_dot + x_dot*a\n", 7, 41,
+     "the velocity constraint skid is not linear in the rates here", NULL},
+    {"a velocity constraint without rates",
+     HEAD "coord y = 0 [m]\nT = 1/2*m*x_dot^2\n"
+     "velocity constraint c = x - y\n", 5, 21,
+     "the velocity constraint c reads no rates", "`constraint NAME = ...`"},
+    {"a matrix constraint",
+     HEAD "T = 1/2*m*x_dot^2\nconstraint c = diag(x, x, x)\n", 4, 12,
+     "the constraint c is a matrix", NULL},
     {"der() in a holonomic constraint",
      HEAD "T = 1/2*m*x_dot^2\nconstraint c = der(x)\n", 4, 20,
      "der() cannot appear in the constraint c", "velocity constraint"},

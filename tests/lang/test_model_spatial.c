@@ -12,6 +12,10 @@
  *    states, the same trajectory, the energy and the two conjugate
  *    momenta p_psi, p_phi constant over 100 s, and the shipped start in
  *    steady precession at the closed-form rate;
+ *  - models/rolling-disk.eom (two velocity constraints from der() and
+ *    the angular velocity): released upright it rolls straight on at
+ *    x = r phi_dot t, and released leaning its energy stays constant
+ *    (rolling does no work) and the constraints hold;
  *  - the vector algebra through probes (cross, dot, norm, transpose,
  *    rotations about an axis and from a quaternion, angular velocity in
  *    the body and in space) against the same formulas written in C.
@@ -437,6 +441,69 @@ static void heavy_top(void)
     eom_system_free(&b);
 }
 
+/* ---- the rolling disk --------------------------------------------------- */
+
+typedef struct disk_track {
+    eom_system *s;
+    double E0, dE, res, lean, y;
+} disk_track;
+
+static void track_disk(const double *x, void *u)
+{
+    disk_track *d = u;
+    eom_energy e;
+    double phi[2], phid[2];
+    int k;
+    if (eom_energy_at(d->s, 0.0, x, &e) == EOM_OK)
+        d->dE = fmax(d->dE, fabs(e.E - d->E0) / fabs(d->E0));
+    if (eom_residuals(d->s, x, phi, phid) == EOM_OK)
+        for (k = 0; k < 2; k++)
+            d->res = fmax(d->res, fabs(phid[k]));
+    d->lean = fmax(d->lean, fabs(x[3]));
+    d->y = fmax(d->y, fabs(x[1]) + fabs(x[2]));
+}
+
+static void rolling_disk(void)
+{
+    char *text = read_text("rolling-disk.eom");
+    eom_system *s = build(text, "rolling-disk.eom", 0, NULL);
+    double x[10], x0;
+    disk_track d;
+    eom_energy e;
+    free(text);
+    if (!s)
+        return;
+    CHECK_INT(eom_system_nconstraints(s), 2);
+    /* upright, rolling at 1.5 m/s: straight on, and upright */
+    CHECK_INT(eom_initial_state(s, x), EOM_OK);
+    x[3] = 0.0;
+    x0 = x[0];
+    memset(&d, 0, sizeof d);
+    d.s = s;
+    CHECK_INT(eom_energy_at(s, 0.0, x, &e), EOM_OK);
+    d.E0 = e.E;
+    run(s, x, 4.0, 0.25, track_disk, &d);
+    printf("rolling disk upright, 4 s: x %.15g (r phi_dot t = %.15g), "
+           "lean %.2g, |y| + |psi| %.2g, |C qd| %.2g\n", x[0], 1.5 * 4.0,
+           d.lean, d.y, d.res);
+    CHECK_NEAR(x[0] - x0, 0.3 * 5.0 * 4.0, 1e-10);
+    CHECK(d.lean <= 1e-12 && d.y <= 1e-12);
+    CHECK(d.res <= 1e-12);
+    /* leaning: it steers; rolling does no work: E stays */
+    CHECK_INT(eom_initial_state(s, x), EOM_OK);
+    memset(&d, 0, sizeof d);
+    d.s = s;
+    CHECK_INT(eom_energy_at(s, 0.0, x, &e), EOM_OK);
+    d.E0 = e.E;
+    run(s, x, 10.0, 0.25, track_disk, &d);
+    printf("rolling disk leaning, 10 s: relative drift of E %.2g, "
+           "|C qd| %.2g, heading %.3g rad\n", d.dE, d.res, x[2]);
+    CHECK(d.dE <= 1e-10);
+    CHECK(d.res <= 1e-12);
+    CHECK(fabs(x[2]) > 0.5); /* it turned */
+    eom_system_free(&s);
+}
+
 /* ---- vector algebra through probes ------------------------------------- */
 
 static const char *const algebra =
@@ -555,6 +622,7 @@ int main(int argc, char **argv)
     planar_models();
     chain_ops();
     heavy_top();
+    rolling_disk();
     vector_algebra();
     CHECK_DONE();
 }

@@ -341,19 +341,32 @@ static int cb_forces(eom_ctx *c, void *user, tp_val *out)
     return 0;
 }
 
+/* Every member of a constraint family, a row per component of a vector
+ * constraint (NAME_x, NAME_y, NAME_z, member by member). */
 static int cb_constraint(eom_ctx *c, void *user, tp_val *out)
 {
     lang_cb *cb = user;
     lang_inst *in = cb->in;
     const sym *y = &in->p->syms[cb->sym];
-    char what[LANG_MAX_NAME + 32];
-    int j;
-    snprintf(what, sizeof what, "the constraint %s", y->name);
-    lang_begin(in, c, EOM_ROLE_CONSTRAINT, what);
+    const int nc = y->shape > SH_SCALAR ? y->shape : 1;
+    char what[LANG_MAX_NAME + 40];
+    int j, k;
+    snprintf(what, sizeof what, "the %sconstraint %s",
+             y->velocity ? "velocity " : "", y->name);
+    lang_begin(in, c, y->velocity ? EOM_ROLE_VCONSTRAINT
+                                  : EOM_ROLE_CONSTRAINT, what);
     for (j = 0; j < in->fam[cb->sym].size; j++) {
         long idx[LANG_MAX_IDX];
         lval v;
         bind_member(in, cb->sym, j, idx);
+        if (nc > 1) {
+            ldvec w;
+            if (lang_eval_d(in, y->value, &w, 0) < 0)
+                return cb_fail(c, in);
+            for (k = 0; k < nc; k++)
+                out[j * nc + k] = lang_tape(in, w.x[k].v);
+            continue;
+        }
         if (lang_eval(in, y->value, &v) < 0)
             return cb_fail(c, in);
         out[j] = lang_tape(in, v);
@@ -439,9 +452,15 @@ static int add_callbacks(lang_inst *in, eom_model *m)
         rc = eom_model_set_forces(m, cb_forces, new_cb(in, -1, -1, 0));
     for (k = 0; k < p->nsyms && rc >= 0; k++) {
         const sym *y = &p->syms[k];
-        if (y->kind == S_CONSTRAINT && in->fam[k].size > 0)
-            rc = eom_model_add_constraints(m, in->fam[k].size, cb_constraint,
-                                           new_cb(in, k, -1, 0));
+        if (y->kind == S_CONSTRAINT && in->fam[k].size > 0) {
+            const int rows = in->fam[k].size *
+                             (y->shape > SH_SCALAR ? y->shape : 1);
+            rc = y->velocity
+                     ? eom_model_add_velocity_constraints(
+                           m, rows, cb_constraint, new_cb(in, k, -1, 0))
+                     : eom_model_add_constraints(m, rows, cb_constraint,
+                                                 new_cb(in, k, -1, 0));
+        }
         if (y->kind != S_PROBE)
             continue;
         for (j = 0; j < in->fam[k].size && rc >= 0; j++) {
@@ -512,8 +531,10 @@ static int check_body(tp_rec *r, void *user)
                 rc = cb_forces(a->c, cb, a->out);
             }
             break;
-        default:
-            if (sk == S_CONSTRAINT)
+        default: /* holonomic, then velocity constraints */
+            if (sk == S_CONSTRAINT &&
+                in->p->syms[cb->sym].velocity ==
+                    (a->role == EOM_ROLE_VCONSTRAINT))
                 rc = cb_constraint(a->c, cb, a->out);
             break;
         }
@@ -525,8 +546,8 @@ static int check_body(tp_rec *r, void *user)
  * (2n + 1 values: q, qd, t). */
 static int run_others(lang_inst *in, const eom_model *m, const double *x)
 {
-    static const int roles[3] = {EOM_ROLE_STATE, EOM_ROLE_FORCE,
-                                 EOM_ROLE_CONSTRAINT};
+    static const int roles[4] = {EOM_ROLE_STATE, EOM_ROLE_FORCE,
+                                 EOM_ROLE_CONSTRAINT, EOM_ROLE_VCONSTRAINT};
     const int n = m->n_coords;
     eom_ctx c;
     tp_rec *r = NULL;
@@ -535,15 +556,15 @@ static int run_others(lang_inst *in, const eom_model *m, const double *x)
     for (k = 0; k < in->ncbs; k++)
         if (in->cbs[k].sym >= 0 &&
             in->p->syms[in->cbs[k].sym].kind == S_CONSTRAINT &&
-            in->fam[in->cbs[k].sym].size > most)
-            most = in->fam[in->cbs[k].sym].size;
+            in->fam[in->cbs[k].sym].size * 3 > most)
+            most = in->fam[in->cbs[k].sym].size * 3; /* a vector's rows */
     if (tp_evaluator_new(&r, 2 * n + 1, NULL) != TP_OK ||
         !(out = calloc((size_t)most + 1, sizeof *out))) {
         tp_rec_free(&r);
         lang_fail(in, 0, NULL, "out of memory");
         return -1;
     }
-    for (k = 0; k < 3 && !in->failed; k++) {
+    for (k = 0; k < 4 && !in->failed; k++) {
         check_arg a;
         memset(&c, 0, sizeof c);
         c.r = r;

@@ -186,7 +186,9 @@ typedef struct sym {
     int32_t last_clause;
     dim d;                 /* definitions: dimension (units.c) */
     uint8_t dim_state;     /* 0 not computed, 1 in progress, 2 done */
-    uint8_t shape;         /* definitions and probes: SH_* (shape.c) */
+    uint8_t velocity;      /* constraints: on the rates (velocity
+                              constraint NAME = ...) */
+    uint8_t shape;         /* definitions, probes, constraints: SH_* */
     uint8_t shape_state;   /* 0 not computed, 1 in progress, 2 done */
 } sym;
 
@@ -271,6 +273,7 @@ int lang_parse(lang_prog *p, char *err, size_t len);
 int lang_resolve(lang_prog *p, char *err, size_t len);
 int lang_units(lang_prog *p, char *err, size_t len);
 int lang_shapes(lang_prog *p, char *err, size_t len);
+int lang_rates(lang_prog *p, char *err, size_t len);
 /* "a scalar", "a vector", "a matrix" */
 const char *lang_shape_name(int shape);
 

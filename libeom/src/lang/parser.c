@@ -709,6 +709,15 @@ static int statement(parser *ps)
         ps->pos++;
         return setting_stmt(ps);
     }
+    if (is_word(ps, tok, "velocity") && is_word(ps, tok + 1, "constraint")) {
+        /* a constraint on the rates: A(q, t) qd + b(q, t) = 0 */
+        int first = ps->p->nsyms, rc;
+        ps->pos += 2;
+        rc = decl_stmt(ps, S_CONSTRAINT);
+        if (ps->p->nsyms > first)
+            ps->p->syms[first].velocity = 1;
+        return rc;
+    }
     if (is_word(ps, tok, "param") || is_word(ps, tok, "coord") ||
         is_word(ps, tok, "probe") || is_word(ps, tok, "constraint")) {
         int k = is_word(ps, tok, "param")   ? S_PARAM

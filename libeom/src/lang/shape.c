@@ -390,17 +390,23 @@ int lang_shapes(lang_prog *p, char *err, size_t len)
         if (binders(&sh, p->syms[k].idx, p->syms[k].nidx) < 0)
             return -1;
         y = &p->syms[k];
-        if (y->kind == S_PROBE) {
+        if (y->kind == S_PROBE || y->kind == S_CONSTRAINT) {
             if (shape_of(&sh, y->value, &s) < 0)
                 return -1;
             y = &p->syms[k];
             y->shape = (uint8_t)(s == SH_ANY ? SH_SCALAR : s);
             y->shape_state = 2;
+            if (y->kind == S_CONSTRAINT && s == SH_MAT) {
+                lang_diag(p, y->tok, err, len,
+                          "a vector constraint gives a row per component; "
+                          "write the rows of a matrix as vectors",
+                          "the constraint %s is a matrix", y->name);
+                return -1;
+            }
             continue;
         }
         snprintf(what, sizeof what, "the %s of %s",
-                 y->kind == S_CONSTRAINT ? "expression"
-                                         : y->kind == S_PARAM
+                 y->kind == S_PARAM
                                                ? "value"
                                                : "initial value",
                  y->name);
