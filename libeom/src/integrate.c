@@ -448,8 +448,8 @@ int eom__integ_create(eom_integ **out, eom_system *s, const eom_opts *o,
     if ((rc = check_sens(o, s, s->msg, sizeof s->msg)) != EOM_OK)
         return rc;
     /* velocity constraints: the methods that integrate the accelerations
-     * of the range-space solve take them; ida's residual form and the
-     * sensitivities come from the residual tape of holonomic rows */
+     * of the range-space solve take them; ida's index-1 form and the
+     * projection of the sensitivities are those of holonomic rows */
     if (s->mv > 0 && o->method == EOM_IDA)
         return eom__fail(s, EOM_ERR_MODEL,
                          "ida: the model has velocity (non-holonomic) "
@@ -475,10 +475,6 @@ int eom__integ_create(eom_integ **out, eom_system *s, const eom_opts *o,
     it->o.atol_vec = NULL;
     it->o.erk_table = NULL;
     it->o.sens = NULL;
-    /* no exact Jacobian with velocity rows (no residual tape): bdf and
-     * esdirk difference them */
-    if (s->mv > 0 && (o->method == EOM_BDF || o->method == EOM_ESDIRK))
-        it->o.dq_jacobian = 1;
     if (o->n_sens > 0) {
         int k;
         it->sens = malloc((size_t)o->n_sens * sizeof *it->sens);

@@ -389,11 +389,11 @@ static int ready(eom_system *s)
     int rc;
     if (s->jsp)
         return EOM_OK;
+    if (s->mv > 0) /* ida's matrix: ida does not take them */
+        return eom__refuse_velocity(s, "ida's sparse iteration matrix");
     if (!s->tRes.tape)
-        return s->mv > 0 ? eom__refuse_velocity(s, "the sparse iteration "
-                                                   "matrix")
-                         : eom__fail(s, EOM_ERR_MODEL,
-                                     "the system has no residual tape");
+        return eom__fail(s, EOM_ERR_MODEL,
+                         "the system has no residual tape");
     if (!(s->jsp = calloc(1, sizeof *s->jsp)))
         return eom__fail(s, EOM_ERR_NOMEM,
                          "out of memory for the sparse Jacobian");

@@ -13,6 +13,12 @@
  *   phi0  = phi                                                   (m)
  *   P     = qd . (Q - dR/dqd) - dL/dt|(q,qd) [+ lambda . (C qd)]  (1)
  *
+ * For the velocity rows (mh .. m-1, after the holonomic ones) of
+ * psi(q, qd, t) = A qd + b: C^T lambda takes A^T lambda (a reverse sweep
+ * of the psi tape, whose qd part is A^T lambda), phi2 = dpsi/dt along
+ * (qd, qdd, 1) = A qdd - gamma, phi1 = psi, phi0 = 0, and P always
+ * takes lambda . (A qd) (= qd . A^T lambda).
+ *
  * so that E = 0 and phi2 + 2 alpha phi1 + beta^2 phi0 = 0 are the
  * equations the right-hand side solves (rhs.c) and P is the power whose
  * negative the integrators integrate as the dissipated energy W (the
@@ -80,14 +86,15 @@ static void select_output(tp_rec *r, const tp_tape *t, int out, tp_val *w)
 static tp_val *handles(const eom_system *s, size_t *count)
 {
     const size_t n = (size_t)s->n, m = (size_t)s->m;
-    const tp_tape *tapes[5];
+    const tp_tape *tapes[6];
     size_t most = 3 * n + m + 2 + (size_t)s->np, k;
     tapes[0] = s->tL.tape;
     tapes[1] = s->tR.tape;
     tapes[2] = s->tQ.tape;
     tapes[3] = s->tphi.tape;
     tapes[4] = s->tE.tape;
-    for (k = 0; k < 5; k++)
+    tapes[5] = s->tpsi.tape;
+    for (k = 0; k < 6; k++)
         if (tapes[k]) {
             size_t c = (size_t)tp_tape_n_params(tapes[k]) +
                        (size_t)tp_tape_n_outputs(tapes[k]) +
@@ -134,7 +141,7 @@ static int rec_phi1(tp_rec *r, void *user)
     res_rec *a = user;
     const eom_system *s = a->s;
     const tp_tape *P = s->tphi.tape;
-    const int n = s->n, m = s->m, timed = s->tphi.tindex >= 0;
+    const int n = s->n, m = s->mh, timed = s->tphi.tindex >= 0;
     size_t cnt;
     tp_val *h = handles(s, &cnt), *x, *d, *y, *dy, *cq;
     char name[24];
@@ -178,15 +185,20 @@ static int rec_residual(tp_rec *r, void *user)
 {
     res_rec *a = user;
     const eom_system *s = a->s;
-    const int n = s->n, m = s->m;
+    const int n = s->n, m = s->m, mh = s->mh, mv = s->mv;
     const int L_timed = s->tL.tindex >= 0, phi_timed = s->tphi.tindex >= 0;
     size_t cnt;
     tp_val *h = handles(s, &cnt), *z, *x, *d, *y, *dy, *w, *par, *E, *p;
-    tp_val t, one, P;
+    tp_val *v = handles(s, &cnt), *dv;
+    tp_val t, one, P, zero;
     char name[24];
     int i;
-    if (!h)
+    if (!h || !v) {
+        free(h);
+        free(v);
         return a->status = EOM_ERR_NOMEM, 1;
+    }
+    dv = v + cnt;
     z = h;
     x = h + cnt;
     d = h + 2 * cnt;
@@ -200,6 +212,7 @@ static int rec_residual(tp_rec *r, void *user)
     t = z[3 * n + m];
     p = z + 3 * n + m + 1;
     one = tp_const(r, 1.0);
+    zero = tp_const(r, 0.0);
 
     /* d/dt (dL/dqd) - dL/dq: the gradient tape along (qd, qdd, 1) */
     for (i = 0; i < 2 * n; i++) {
@@ -231,7 +244,7 @@ static int rec_residual(tp_rec *r, void *user)
             P = tp_add(r, P, tp_mul(r, z[n + i], y[i]));
         }
     }
-    if (m > 0) {
+    if (mh > 0) {
         /* - C^T lambda: the constraint tape's reverse sweep weighted by
          * lambda */
         for (i = 0; i < n; i++)
@@ -242,11 +255,30 @@ static int rec_residual(tp_rec *r, void *user)
         for (i = 0; i < n; i++)
             E[i] = tp_sub(r, E[i], dy[i]);
     }
+    if (mv > 0) {
+        /* - A^T lambda: the qd part of the velocity constraints' reverse
+         * sweep; their force's power qd . A^T lambda */
+        for (i = 0; i < 2 * n; i++)
+            x[i] = z[i];
+        x[2 * n] = t;
+        bind_params(r, s, s->tpsi.tape, t, p, par);
+        tp_call_vjp(r, s->tpsi.tape, x, par, z + 3 * n + mh, NULL, dy,
+                    NULL);
+        for (i = 0; i < n; i++) {
+            E[i] = tp_sub(r, E[i], dy[n + i]);
+            P = tp_add(r, P, tp_mul(r, z[n + i], dy[n + i]));
+        }
+        /* psi and its rate along (qd, qdd, 1) */
+        for (i = 0; i < 2 * n; i++)
+            d[i] = z[n + i];
+        d[2 * n] = one;
+        tp_call_jvp(r, s->tpsi.tape, x, par, d, NULL, v, dv);
+    }
     for (i = 0; i < n; i++) {
         snprintf(name, sizeof name, "E%d", i);
         tp_output(r, name, E[i]);
     }
-    if (m > 0) {
+    if (mh > 0) {
         /* (phi, phi1[, C qd]) and their rates along (qd, qdd, 1) */
         for (i = 0; i < 2 * n; i++) {
             x[i] = z[i];
@@ -256,24 +288,27 @@ static int rec_residual(tp_rec *r, void *user)
         d[2 * n] = one;
         bind_params(r, s, a->Phi1, t, p, par);
         tp_call_jvp(r, a->Phi1, x, par, d, NULL, y, dy);
-        for (i = 0; i < m; i++) {
-            snprintf(name, sizeof name, "phi2_%d", i);
-            tp_output(r, name, dy[m + i]);
-        }
-        for (i = 0; i < m; i++) {
-            snprintf(name, sizeof name, "phi1_%d", i);
-            tp_output(r, name, y[m + i]);
-        }
-        for (i = 0; i < m; i++) {
-            snprintf(name, sizeof name, "phi0_%d", i);
-            tp_output(r, name, y[i]);
-        }
         /* moving constraints do work: + lambda . (C qd) */
-        for (i = 0; phi_timed && i < m; i++)
-            P = tp_add(r, P, tp_mul(r, z[3 * n + i], y[2 * m + i]));
+        for (i = 0; phi_timed && i < mh; i++)
+            P = tp_add(r, P, tp_mul(r, z[3 * n + i], y[2 * mh + i]));
+    }
+    /* the rows: holonomic (phi2, phi1, phi0 from the Phi1 tape: its
+     * outputs phi, then phid), then velocity (dpsi/dt, psi, 0) */
+    for (i = 0; i < m; i++) {
+        snprintf(name, sizeof name, "phi2_%d", i);
+        tp_output(r, name, i < mh ? dy[mh + i] : dv[i - mh]);
+    }
+    for (i = 0; i < m; i++) {
+        snprintf(name, sizeof name, "phi1_%d", i);
+        tp_output(r, name, i < mh ? y[mh + i] : v[i - mh]);
+    }
+    for (i = 0; i < m; i++) {
+        snprintf(name, sizeof name, "phi0_%d", i);
+        tp_output(r, name, i < mh ? y[i] : zero);
     }
     tp_output(r, "P", P);
     free(h);
+    free(v);
     return 0;
 }
 
@@ -327,7 +362,7 @@ int eom__record_residual(eom_system *s)
     ends[2] = 2 * n + 1;
     rc = record_tape(s, nL, ends, rec_gradient, &a,
                      "gradient of the Lagrangian", &G);
-    if (rc == EOM_OK && m > 0) {
+    if (rc == EOM_OK && s->mh > 0) {
         a.G = G;
         rc = record_tape(s, 2 * n + (s->tphi.tindex >= 0), ends, rec_phi1,
                          &a, "rates of the constraints", &Phi1);
@@ -372,10 +407,8 @@ static int jac_ready(eom_system *s)
     if (s->tRes.ws)
         return EOM_OK;
     if (!s->tRes.tape)
-        return s->mv > 0 ? eom__refuse_velocity(s, "the exact Jacobian of "
-                                                   "the equations")
-                         : eom__fail(s, EOM_ERR_MODEL,
-                                     "the system has no residual tape");
+        return eom__fail(s, EOM_ERR_MODEL,
+                         "the system has no residual tape");
     /* after a failure here, what was made is kept for the next try */
     if (!s->jz)
         s->jz = malloc((3 * n + m + 1 + (size_t)s->np) * sizeof(double));
@@ -529,10 +562,11 @@ static int finish_columns(eom_system *s, const double *x, const double *Jr,
         }
         if (with_power) {
             double dP = Jr[(size_t)(n + 3 * m) * count + j];
-            /* moving constraints: P holds lambda . (C qd) at fixed
-             * lambda; add its change through lambda, (C qd) . Lam_j */
-            if (s->tphi.tindex >= 0) {
-                for (k = 0; k < m; k++) {
+            /* moving constraints and velocity rows: P holds lambda .
+             * (C qd) at fixed lambda; add its change through lambda,
+             * (C qd) . Lam_j */
+            if (m > 0) {
+                for (k = s->tphi.tindex >= 0 ? 0 : s->mh; k < m; k++) {
                     const double *Ck = s->C + (size_t)k * n;
                     double cqd = 0.0;
                     for (i = 0; i < n; i++)

@@ -667,9 +667,7 @@ int eom_system_new(eom_system **out, const eom_model *m, char *errmsg,
     s->reads_time = s->tL.tindex >= 0 || s->tE.tparam >= 0 ||
                     s->tR.tparam >= 0 || s->tphi.tindex >= 0 ||
                     s->tpsi.tindex >= 0;
-    /* the residual tape holds holonomic rows only: a system with
-     * velocity rows has none, and the calls that need it refuse */
-    if (s->mv == 0 && (rc = eom__record_residual(s)) != EOM_OK)
+    if ((rc = eom__record_residual(s)) != EOM_OK)
         goto fail;
     s->msg[0] = '\0';
     *out = s;
@@ -768,8 +766,7 @@ int eom_system_clone(eom_system **out, const eom_system *s, char *errmsg,
         rc = eom__fail(c, EOM_ERR_NOMEM, "out of memory");
         goto fail;
     }
-    if (s->tRes.pmap)
-        memcpy(c->tRes.pmap, s->tRes.pmap, (size_t)c->np * sizeof(int));
+    memcpy(c->tRes.pmap, s->tRes.pmap, (size_t)c->np * sizeof(int));
     if (c->m > 0 && (rc = setup_klu(c)) != EOM_OK)
         goto fail;
     if (s->compiled &&

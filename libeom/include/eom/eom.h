@@ -153,10 +153,10 @@ EOM_API int eom_model_add_constraints(eom_model *m, int count,
  * Their rows of C are A = dpsi/dqd, their gamma is -dpsi/ds along (qd,
  * qdd = 0, t-rate 1), their Baumgarte term -2 alpha psi; they have no
  * position residual (phi = 0) and are projected at the velocity level
- * only. eom_linearize, eom_linearize_state, eom_equilibrium, the exact
- * Jacobians (eom_state_jacobian, eom_param_jacobian), ida and
- * sensitivities refuse a model with them (EOM_ERR_MODEL); bdf and esdirk
- * take them with difference-quotient Jacobians (docs/integrators.md). */
+ * only. The exact Jacobians (eom_state_jacobian, eom_param_jacobian)
+ * include them; eom_linearize, eom_linearize_state, eom_equilibrium, ida
+ * and sensitivities refuse a model with them (EOM_ERR_MODEL). The psi
+ * tape is never compiled (eom_system_set_compiled). */
 EOM_API int eom_model_add_velocity_constraints(eom_model *m, int count,
                                                eom_vector_fn psi,
                                                void *user);
