@@ -86,6 +86,18 @@ int tp__run_build(const char *cc, const char *flags, char *src, char *so,
                   const char *tmp_base, int parts,
                   const char *log, char *msg, size_t len);
 
+/* SHA-256 (sha256.c): init, update any number of times, then the digest
+ * as 64 hex digits (the state is spent). */
+typedef struct tp_sha256 {
+    uint32_t h[8];
+    uint64_t bytes;
+    unsigned char buf[64];
+    size_t fill;
+} tp_sha256;
+void tp__sha256_init(tp_sha256 *s);
+void tp__sha256_update(tp_sha256 *s, const void *data, size_t n);
+void tp__sha256_hex(tp_sha256 *s, char out[65]);
+
 /* The cone of the ops marked in need at or below top: every op whose
  * value they need (and the partners whose sine or cosine a paired op
  * reads), marked in need too (codegen.c). */
