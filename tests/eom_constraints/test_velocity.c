@@ -22,16 +22,20 @@
  * route to gamma, its time terms and the constraint force's work).
  *
  * Checked: the skate's accelerations and multipliers at random states
- * with and without Baumgarte; its trajectory with erk against the closed
+ * with and without Baumgarte, and a clone's; its trajectory with erk against the closed
  * form, psi and E held; every method that takes velocity rows runs it;
  * the two cart forms at random states and times; a model with both
  * kinds of rows projected (q by the holonomic rows only); the exact
- * Jacobian of the state derivative against differences; the refusals
+ * Jacobian of the state derivative against differences; compiled tapes
+ * beside the interpreted psi tape; the refusals
  * (a row not linear in the rates or not reading them, ida, sensitivities,
  * the linearizations), bad arguments, a NaN, and redundant velocity
  * rows. */
+#define _POSIX_C_SOURCE 200809L
+
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "check.h"
@@ -174,6 +178,22 @@ static void test_skate_rhs(void)
                 CHECK_NEAR(xd[3], -p[3] * p[4] * sn, 1e-13);
                 CHECK_NEAR(xd[4], p[3] * p[4] * cs, 1e-13);
             }
+        }
+    }
+    /* a clone shares the psi tape and gives the same bits; freed in
+     * either order */
+    {
+        eom_system *c = NULL;
+        double x[6] = {0.3, -0.4, 1.1, 0.2, 0.5, -0.7}, xa[6], xb[6];
+        CHECK_INT(eom_system_clone(&c, s, msg, sizeof msg), EOM_OK);
+        if (c) {
+            CHECK_INT(eom_rhs(s, 0.0, x, xa), EOM_OK);
+            CHECK_INT(eom_rhs(c, 0.0, x, xb), EOM_OK);
+            CHECK(memcmp(xa, xb, sizeof xa) == 0);
+            eom_system_free(&s);
+            CHECK_INT(eom_rhs(c, 0.0, x, xb), EOM_OK);
+            CHECK(memcmp(xa, xb, sizeof xa) == 0);
+            eom_system_free(&c);
         }
     }
     eom_system_free(&s);
@@ -401,6 +421,47 @@ static void test_cart_forms(void)
         eom_system_free(&h);
         eom_system_free(&v);
     }
+}
+
+/* ---- compiled tapes --------------------------------------------------- */
+
+/* The moving cart on compiled tapes (its psi tape stays interpreted)
+ * against an interpreted clone, in a cache of the run's own. */
+static void test_compiled(void)
+{
+    char dir[] = "/tmp/test-velocity-XXXXXX", cmd[128], msg[256];
+    int moving = 1, st, k;
+    eom_system *s, *c = NULL;
+    rng r = rng_seed(5);
+    if (!mkdtemp(dir)) {
+        perror("mkdtemp");
+        CHECK(0);
+        return;
+    }
+    setenv("AUTOEOM_CACHE_DIR", dir, 1);
+    s = cart_new(1, &moving);
+    if (s && eom_system_clone(&c, s, msg, sizeof msg) == EOM_OK) {
+        st = eom_system_set_compiled(s, 1, NULL);
+        CHECK(st == EOM_OK || st == EOM_WARN_INTERPRETED);
+        if (st != EOM_OK)
+            printf("compiled tapes not in use: %s\n", eom_system_errmsg(s));
+        CHECK_INT(eom_system_compiled(s), st == EOM_OK);
+        for (k = 0; k < 10; k++) {
+            double x[4], xa[4], xb[4], t = rng_range(&r, -2, 2);
+            int i;
+            for (i = 0; i < 4; i++)
+                x[i] = rng_range(&r, -1, 1);
+            CHECK_INT(eom_rhs(s, t, x, xa), EOM_OK);
+            CHECK_INT(eom_rhs(c, t, x, xb), EOM_OK);
+            for (i = 0; i < 4; i++)
+                CHECK_NEAR(xa[i], xb[i], 1e-13);
+        }
+    }
+    eom_system_free(&c);
+    eom_system_free(&s);
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+    if (system(cmd) != 0)
+        fprintf(stderr, "could not remove %s\n", dir);
 }
 
 /* ---- exact Jacobians -------------------------------------------------- */
@@ -672,6 +733,7 @@ int main(void)
     test_skate_rhs();
     test_cart_forms();
     test_state_jacobian();
+    test_compiled();
     test_mixed_projection();
     test_refusals();
     test_skate_motion();
