@@ -77,14 +77,26 @@ int tp__emit_taylor2(const tp_tape *T, tp_sbuf *b);
 void tp__chunk_begin(tp_sbuf *b, unsigned c, const char *sig);
 #define TP_CHUNK_END "}\n#endif\n"
 
-/* Build the source file src into the shared object so with cc and flags
- * (compile_run.c): in one compiler call, or with parts > 1 in that many
- * side by side (objects tmp_base.pK.o, linked into so, then removed).
- * The compilers' messages go to log. 0, or -1 with msg set. */
+/* The compiler (compile_run.c). The command cc's first word is resolved
+ * through PATH to the real path of the file that runs (exe, at most len
+ * bytes); 0, or -1 with msg. */
 #define TP_MAX_PARTS 8
-int tp__run_build(const char *cc, const char *flags, char *src, char *so,
-                  const char *tmp_base, int parts,
-                  const char *log, char *msg, size_t len);
+int tp__compiler_path(const char *cc, char *exe, size_t len, char *msg,
+                      size_t mlen);
+/* The identity of the compiler exe run as cc: its path, size, times and
+ * inode, and what `cc --version` prints (run once per process and
+ * compiler, under a lock), into out (NUL-terminated, cut at len). */
+void tp__compiler_identity(const char *exe, const char *cc, char *out,
+                           size_t len);
+/* Build wd/src.c into wd/out.so with exe run as cc and flags: in one
+ * compiler call, or with parts > 1 in that many side by side (objects
+ * wd/pK.o, linked). wd is a private directory of this build; the
+ * compilers' messages go to wd/log, which messages call log_name. Each
+ * compiler runs in a process group of its own, killed whole when the
+ * build is abandoned or the calling thread dies. 0, or -1 with msg. */
+int tp__run_build(const char *exe, const char *cc, const char *flags,
+                  const char *wd, int parts, const char *log_name,
+                  char *msg, size_t len);
 
 /* SHA-256 (sha256.c): init, update any number of times, then the digest
  * as 64 hex digits (the state is spent). */

@@ -3,44 +3,81 @@
  * cache, load it, and check it against the interpreter before any sweep
  * uses it.
  *
- * The cache. An entry is named by a 128-bit hash of everything that
- * decides the machine code: the generated source (which holds the tape and
- * the kernels' text), the compiler command and its flags, and the format.
- * Beside the object, NAME.sum records its key, size and a hash of its
- * bytes, written after the object is complete; an entry is loaded only if
- * both agree with the object on disk, so a truncated, corrupt or foreign
- * file is rebuilt, never loaded. After loading, the object must report the
- * same key and format, and its sweeps must give the interpreter's results
- * at one state (tp_compile_opts.x). Objects are built under temporary
- * names and renamed into place, so concurrent builds of one tape (threads,
- * processes) each see a whole file.
+ * The cache. An entry is named by a hash (SHA-256, sha256.c) of
+ * everything that decides the machine code: the generated source (which
+ * holds the tape and the kernels' text), the compiler that runs (the real
+ * path PATH resolves its command to, the file's size, times and inode,
+ * and what `CC --version` prints; compile_run.c), the command and its
+ * flags, and the format. Beside the object NAME.so, NAME.sum records its
+ * key, size and SHA-256, written after the object is complete.
+ *
+ * Who may write it. The cache is trusted as far as the user's own files
+ * are, and no further: the directory (and each of the components the
+ * library creates) must be owned by the effective user and writable by
+ * no one else, and not be a symbolic link; each parent must be owned by
+ * root or the user and writable by no one else unless sticky (/tmp). The
+ * walk from the root opens one component at a time with O_NOFOLLOW and
+ * checks what it opened (fstat), so a link swapped in between is refused
+ * too. A directory that fails is not used: tp_compile says why
+ * ("cache directory /tmp/x is writable by others: not used") and the tape
+ * stays on the interpreter.
+ *
+ * Files. Everything the library writes is created exclusively
+ * (O_CREAT | O_EXCL | O_NOFOLLOW) under a name no one can predict: a
+ * build runs in a fresh folder of its own (mkdtemp: NAME.tmp-XXXXXX) and
+ * its object, checksum and source are renamed into place, object first,
+ * checksum last. A cache file is read through one descriptor opened with
+ * O_NOFOLLOW | O_NONBLOCK (a FIFO does not hang the open) and fstat'ed:
+ * a regular file of the user, writable by no one else, of bounded size
+ * (MAX_SUM, MAX_OBJECT). The object is hashed as it is read through that
+ * descriptor and copied at the same time into a fresh file of the cache
+ * (NAME.ld-XXXXXX); only if the digest is the checksum's is that copy,
+ * the very bytes hashed, given to dlopen (and unlinked at once). So no
+ * constructor of a planted or corrupt object runs. After loading, the
+ * object must report the same key and format, and its sweeps must give
+ * the interpreter's results at one state (tp_compile_opts.x).
+ * Temporaries of dead runs are never read, and are removed when older
+ * than STALE_SECONDS.
+ *
+ * Not checked: the user's own processes (anything running as the user
+ * can write the cache, as it can write ~/.bashrc), root, and what the
+ * compiler itself reads (its headers, libraries and the environment).
  *
  * Nothing here fails a caller's computation: every failure is a status
  * and a message, and the tape keeps running on the interpreter.
  */
-#define _POSIX_C_SOURCE 200809L
+#define _GNU_SOURCE /* O_PATH, mkostemp */
 
+#include <dirent.h>
 #include <dlfcn.h>
 #include <errno.h>
 #include <fcntl.h>
+#include <limits.h>
 #include <math.h>
-#include <spawn.h>
 #include <stdarg.h>
-#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
 
 #include "codegen.h"
 
-extern char **environ;
-
 #define PATH_LEN 4096
-#define MAX_ARGS 64
+/* The largest object and checksum file the cache reads (a 50-link
+ * chain's object is about 2 MB). */
+#define MAX_OBJECT ((off_t)64 << 20)
+#define MAX_SUM 4096
+/* A build folder or loader's copy older than this is a dead run's. */
+#define STALE_SECONDS (24 * 3600)
+
+/* the ancestors of the cache directory need only be searchable */
+#if defined(O_PATH)
+#define SEARCH_ONLY O_PATH
+#else
+#define SEARCH_ONLY O_RDONLY
+#endif
 
 static void say(tp_compile_info *info, const char *fmt, ...)
 #if defined(__GNUC__)
@@ -63,87 +100,18 @@ static double now(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-/* ---- hashing ----------------------------------------------------------- */
+/* ---- the cache directory ------------------------------------------------ */
 
-/* Two 64-bit FNV-1a lanes with different bases, each finished by a
- * splitmix64 mix: a 128-bit name for a cache entry (not a defence against
- * someone who can write the user's cache; a check against accidents). */
-typedef struct hash128 {
-    uint64_t a, b;
-} hash128;
-
-static void hash_init(hash128 *h)
-{
-    h->a = 0xcbf29ce484222325ull;
-    h->b = 0x84222325cbf29ce4ull;
-}
-
-static void hash_bytes(hash128 *h, const void *p, size_t n)
-{
-    const unsigned char *c = p;
-    size_t i;
-    for (i = 0; i < n; i++) {
-        h->a = (h->a ^ c[i]) * 0x100000001b3ull;
-        h->b = (h->b ^ (uint64_t)(c[i] + 0x5bu)) * 0x100000001b3ull;
-    }
-}
-
-static uint64_t mix64(uint64_t z)
-{
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return z ^ (z >> 31);
-}
-
-static void hash_hex(const hash128 *h, char out[33])
-{
-    snprintf(out, 33, "%016llx%016llx", (unsigned long long)mix64(h->a),
-             (unsigned long long)mix64(h->b ^ h->a));
-}
-
-/* ---- files ------------------------------------------------------------- */
-
-/* Read a whole file (at most max bytes); NULL if it cannot be read. */
-static unsigned char *read_file(const char *path, size_t max, size_t *n)
-{
-    FILE *f = fopen(path, "rb");
-    unsigned char *p = NULL;
-    long len;
-    if (!f)
-        return NULL;
-    if (fseek(f, 0, SEEK_END) == 0 && (len = ftell(f)) >= 0 &&
-        (size_t)len <= max && fseek(f, 0, SEEK_SET) == 0 &&
-        (p = malloc((size_t)len + 1)) != NULL) {
-        if (fread(p, 1, (size_t)len, f) != (size_t)len) {
-            free(p);
-            p = NULL;
-        } else {
-            p[len] = 0;
-            *n = (size_t)len;
-        }
-    }
-    fclose(f);
-    return p;
-}
-
-static int write_file(const char *path, const char *p, size_t n)
-{
-    FILE *f = fopen(path, "wb");
-    int ok;
-    if (!f)
-        return -1;
-    ok = fwrite(p, 1, n, f) == n;
-    ok = fclose(f) == 0 && ok;
-    return ok ? 0 : -1;
-}
-
-/* mkdir -p with mode 0700 for the directories it creates. */
+/* mkdir -p with mode 0700 for the directories it creates (checked after,
+ * by open_cache, like any other). */
 static int make_dirs(const char *dir)
 {
     char p[PATH_LEN];
     size_t k;
-    if (strlen(dir) >= sizeof p)
+    if (strlen(dir) >= sizeof p) {
+        errno = ENAMETOOLONG;
         return -1;
+    }
     strcpy(p, dir);
     for (k = 1; p[k]; k++) {
         if (p[k] != '/')
@@ -158,6 +126,8 @@ static int make_dirs(const char *dir)
     return 0;
 }
 
+/* The cache directory's name into out: 0, -1 if there is none, -2 if it
+ * is too long. */
 static int cache_dir(const tp_compile_opts *o, char *out, size_t len)
 {
     const char *e;
@@ -172,79 +142,307 @@ static int cache_dir(const tp_compile_opts *o, char *out, size_t len)
         n = snprintf(out, len, "%s/.cache/autoeom", e);
     else
         return -1;
-    return n > 0 && (size_t)n < len ? 0 : -1;
+    return n > 0 && (size_t)n < len ? 0 : -2;
 }
 
-/* dir/base.ext into out; -1 if it does not fit. */
-static int path_of(char *out, size_t len, const char *dir, const char *base,
-                   const char *ext)
+/* 0 if the folder st named path may hold the cache (last: it is the
+ * cache directory; else one of its parents), else -1 and why. */
+static int dir_safe(const struct stat *st, const char *path, bool last,
+                    char *why, size_t len)
 {
-    const int n = snprintf(out, len, "%s/%s%s", dir, base, ext);
-    return n >= 0 && (size_t)n < len ? 0 : -1;
+    const uid_t me = geteuid();
+    const char *what = last ? "cache directory" : "the cache directory's "
+                                                  "parent";
+    if (!S_ISDIR(st->st_mode))
+        snprintf(why, len, "%s %.300s is not a directory: not used", what,
+                 path);
+    else if (st->st_uid != me && (last || st->st_uid != 0))
+        snprintf(why, len,
+                 "%s %.300s is owned by uid %ld, not by this user (uid %ld): "
+                 "not used",
+                 what, path, (long)st->st_uid, (long)me);
+    else if ((st->st_mode & (S_IWGRP | S_IWOTH)) &&
+             (last || !(st->st_mode & S_ISVTX)))
+        snprintf(why, len, "%s %.300s is writable by %s: not used", what,
+                 path, st->st_mode & S_IWOTH ? "others" : "its group");
+    else
+        return 0;
+    return -1;
 }
 
-/* ---- cache entries ----------------------------------------------------- */
+/* Create (if need be) and open the cache directory dir: a descriptor, with
+ * its real path in canon, or -1 and why. Each component of the real path
+ * is opened from the root without following links and checked
+ * (dir_safe), so the descriptor is the directory that was checked. */
+static int open_cache(const char *dir, char *canon, size_t clen, char *why,
+                      size_t len)
+{
+    char abs[PATH_LEN], part[PATH_LEN], *real;
+    struct stat st;
+    const char *p, *next;
+    int fd, nfd, err;
+    if (dir[0] != '/') {
+        char cwd[PATH_LEN];
+        const int n = getcwd(cwd, sizeof cwd)
+                          ? snprintf(abs, sizeof abs, "%s/%s", cwd, dir)
+                          : -1;
+        if (n < 0 || (size_t)n >= sizeof abs) {
+            snprintf(why, len, "cannot resolve the cache directory %.300s",
+                     dir);
+            return -1;
+        }
+    } else if (snprintf(abs, sizeof abs, "%s", dir) >= (int)sizeof abs) {
+        snprintf(why, len, "the cache directory's name is too long: %.300s",
+                 dir);
+        return -1;
+    }
+    if (make_dirs(abs) != 0) {
+        snprintf(why, len, "cannot create the cache directory %.300s: %s",
+                 abs, strerror(errno));
+        return -1;
+    }
+    if (lstat(abs, &st) == 0 && S_ISLNK(st.st_mode)) {
+        snprintf(why, len, "cache directory %.300s is a symbolic link: not "
+                           "used", abs);
+        return -1;
+    }
+    real = realpath(abs, NULL);
+    if (!real || strlen(real) >= clen) {
+        snprintf(why, len, "cannot resolve the cache directory %.300s: %s",
+                 abs, real ? "its name is too long" : strerror(errno));
+        free(real);
+        return -1;
+    }
+    memcpy(canon, real, strlen(real) + 1);
+    free(real);
+    fd = open("/", SEARCH_ONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd < 0 || fstat(fd, &st) != 0 ||
+        dir_safe(&st, "/", canon[1] == '\0', why, len) != 0) {
+        if (fd < 0)
+            snprintf(why, len, "cannot open /: %s", strerror(errno));
+        if (fd >= 0)
+            close(fd);
+        return -1;
+    }
+    for (p = canon + 1; *p; p = next) {
+        const size_t k = strcspn(p, "/");
+        const bool last = p[k] == '\0' || p[k + 1] == '\0';
+        char name[NAME_MAX + 1];
+        next = p + k + (p[k] == '/');
+        if (k > NAME_MAX) {
+            close(fd);
+            snprintf(why, len, "cannot open the cache directory %.300s: a "
+                               "name is too long", canon);
+            return -1;
+        }
+        memcpy(name, p, k);
+        name[k] = '\0';
+        snprintf(part, sizeof part, "%.*s", (int)(p + k - canon), canon);
+        nfd = openat(fd, name,
+                     (last ? O_RDONLY : SEARCH_ONLY) | O_DIRECTORY |
+                         O_NOFOLLOW | O_CLOEXEC);
+        err = errno;
+        close(fd);
+        if (nfd < 0) {
+            snprintf(why, len, "cannot open the cache directory: %.300s: "
+                               "%s", part,
+                     err == ELOOP ? "a symbolic link" : strerror(err));
+            return -1;
+        }
+        fd = nfd;
+        if (fstat(fd, &st) != 0 || dir_safe(&st, part, last, why, len) != 0) {
+            close(fd);
+            return -1;
+        }
+    }
+    return fd;
+}
+
+/* Remove the folder name of dfd and the files in it (a build folder). */
+static void remove_tree(int dfd, const char *name)
+{
+    const int fd =
+        openat(dfd, name, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+    DIR *d = fd >= 0 ? fdopendir(fd) : NULL;
+    struct dirent *e;
+    if (fd >= 0 && !d)
+        close(fd);
+    if (d) {
+        while ((e = readdir(d)) != NULL)
+            if (strcmp(e->d_name, ".") != 0 && strcmp(e->d_name, "..") != 0)
+                unlinkat(fd, e->d_name, 0);
+        closedir(d);
+    }
+    unlinkat(dfd, name, AT_REMOVEDIR);
+}
+
+/* 1 if name is one of the cache's temporaries (tp-KEY.tmp-XXXXXX, a
+ * build folder; tp-KEY.ld-XXXXXX, a loader's copy). */
+static bool temporary(const char *name)
+{
+    const char *dot = strrchr(name, '.');
+    return strncmp(name, "tp-", 3) == 0 && dot &&
+           (strncmp(dot, ".tmp-", 5) == 0 || strncmp(dot, ".ld-", 4) == 0) &&
+           strlen(dot) == (dot[1] == 't' ? 11u : 10u);
+}
+
+/* Remove the temporaries of dead runs (older than STALE_SECONDS) from
+ * the cache dfd; they are never read. */
+static void clean_stale(int dfd)
+{
+    const int fd = openat(dfd, ".", O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    DIR *d = fd >= 0 ? fdopendir(fd) : NULL;
+    const time_t old = time(NULL) - STALE_SECONDS;
+    struct dirent *e;
+    struct stat st;
+    if (fd >= 0 && !d)
+        close(fd);
+    if (!d)
+        return;
+    while ((e = readdir(d)) != NULL)
+        if (temporary(e->d_name) &&
+            fstatat(dfd, e->d_name, &st, AT_SYMLINK_NOFOLLOW) == 0 &&
+            st.st_mtime < old) {
+            if (S_ISDIR(st.st_mode))
+                remove_tree(dfd, e->d_name);
+            else
+                unlinkat(dfd, e->d_name, 0);
+        }
+    closedir(d);
+}
+
+/* ---- cache files --------------------------------------------------------- */
+
+/* Open name in the folder dfd to read it as a cache file: following no
+ * link and blocking on no FIFO; it must be a regular file of this user
+ * that no one else may write, of at most max bytes. The descriptor (and
+ * *st), or -1 and why (what names the file). */
+static int open_owned(int dfd, const char *name, const char *what, off_t max,
+                      struct stat *st, char *why, size_t len)
+{
+    const int fd =
+        openat(dfd, name, O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) {
+        snprintf(why, len, "%s %s", what,
+                 errno == ENOENT ? "is missing"
+                 : errno == ELOOP ? "is a symbolic link"
+                                  : "cannot be opened");
+        return -1;
+    }
+    if (fstat(fd, st) != 0)
+        snprintf(why, len, "%s cannot be read: %s", what, strerror(errno));
+    else if (!S_ISREG(st->st_mode))
+        snprintf(why, len, "%s is not a regular file", what);
+    else if (st->st_uid != geteuid())
+        snprintf(why, len, "%s is owned by uid %ld, not by this user", what,
+                 (long)st->st_uid);
+    else if (st->st_mode & (S_IWGRP | S_IWOTH))
+        snprintf(why, len, "%s is writable by others", what);
+    else if (st->st_size > max)
+        snprintf(why, len, "%s is larger than %lld %s", what,
+                 (long long)(max >= (1 << 20) ? max >> 20 : max),
+                 max >= (1 << 20) ? "MiB" : "bytes");
+    else
+        return fd;
+    close(fd);
+    return -1;
+}
+
+/* Create name in dfd (exclusively, 0600) holding p[n]: 0 or -1. */
+static int write_new(int dfd, const char *name, const void *p, size_t n)
+{
+    const int fd = openat(dfd, name,
+                          O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC,
+                          0600);
+    const char *c = p;
+    int ok = fd >= 0;
+    while (ok && n > 0) {
+        const ssize_t w = write(fd, c, n);
+        if (w < 0 && errno == EINTR)
+            continue;
+        ok = w > 0;
+        c += ok ? w : 0;
+        n -= ok ? (size_t)w : 0;
+    }
+    if (fd >= 0)
+        ok = close(fd) == 0 && ok;
+    return ok ? 0 : -1;
+}
+
+/* Read fd (a regular file of size bytes) to its end, hashing it (hex) and
+ * copying it into a fresh file of the cache, canon/base.ld-XXXXXX (made
+ * exclusively; its path in copy): 0, or -1 with no copy left and why. */
+static int hash_copy(int fd, off_t size, const char *canon, const char *base,
+                     char *copy, size_t clen, char hex[65], char *why,
+                     size_t len)
+{
+    unsigned char buf[16384];
+    tp_sha256 s;
+    off_t total = 0;
+    int out;
+    if (snprintf(copy, clen, "%s/%s.ld-XXXXXX", canon, base) >= (int)clen) {
+        snprintf(why, len, "the cache directory's name is too long");
+        return -1;
+    }
+    out = mkostemp(copy, O_CLOEXEC);
+    if (out < 0) {
+        snprintf(why, len, "cannot copy the object to load it: %s",
+                 strerror(errno));
+        return -1;
+    }
+    tp__sha256_init(&s);
+    for (;;) {
+        const ssize_t r = read(fd, buf, sizeof buf);
+        ssize_t w = 0, k;
+        if (r < 0 && errno == EINTR)
+            continue;
+        if (r < 0 || total + r > size) {
+            snprintf(why, len, "its object cannot be read, or grew");
+            goto fail;
+        }
+        if (r == 0)
+            break;
+        total += r;
+        tp__sha256_update(&s, buf, (size_t)r);
+        while (w < r) {
+            k = write(out, buf + w, (size_t)(r - w));
+            if (k < 0 && errno == EINTR)
+                continue;
+            if (k <= 0) {
+                snprintf(why, len, "cannot copy the object to load it: %s",
+                         strerror(errno));
+                goto fail;
+            }
+            w += k;
+        }
+    }
+    if (total != size) {
+        snprintf(why, len, "its object changed while it was read");
+        goto fail;
+    }
+    if (close(out) != 0) {
+        out = -1;
+        snprintf(why, len, "cannot copy the object to load it: %s",
+                 strerror(errno));
+        goto fail;
+    }
+    tp__sha256_hex(&s, hex);
+    return 0;
+fail:
+    if (out >= 0)
+        close(out);
+    unlink(copy);
+    return -1;
+}
 
 #define SUM_MAGIC "autoeom compiled tape"
 
-static int write_sum(const char *so, const char *sum, const char *key)
+static int sum_text(char *out, size_t len, const char *key, long long bytes,
+                    const char *hex)
 {
-    size_t n = 0;
-    unsigned char *p = read_file(so, (size_t)1 << 31, &n);
-    char text[256], hex[33];
-    hash128 h;
-    int len;
-    if (!p)
-        return -1;
-    hash_init(&h);
-    hash_bytes(&h, p, n);
-    free(p);
-    hash_hex(&h, hex);
-    len = snprintf(text, sizeof text, "%s %d\nkey %s\nbytes %zu\nhash %s\n",
-                   SUM_MAGIC, TP_CODEGEN_FORMAT, key, n, hex);
-    return write_file(sum, text, (size_t)len);
+    return snprintf(out, len, "%s %d\nkey %s\nbytes %lld\nsha256 %s\n",
+                    SUM_MAGIC, TP_CODEGEN_FORMAT, key, bytes, hex);
 }
-
-/* 1 if the entry (so, sum) is whole and belongs to key; 0 if there is no
- * entry; -1 (and why) if there is one that must not be loaded. */
-static int entry_ok(const char *so, const char *sum, const char *key,
-                    char *why, size_t len)
-{
-    size_t n = 0, ns = 0;
-    unsigned char *p, *s;
-    char expect[256], hex[33];
-    hash128 h;
-    int ok;
-    struct stat st;
-    if (stat(so, &st) != 0 && stat(sum, &st) != 0)
-        return 0;
-    s = read_file(sum, 4096, &ns);
-    p = read_file(so, (size_t)1 << 31, &n);
-    if (!s || !p) {
-        snprintf(why, len, "%s", s ? "its object cannot be read"
-                                   : "its checksum file is missing");
-        free(s);
-        free(p);
-        return -1;
-    }
-    hash_init(&h);
-    hash_bytes(&h, p, n);
-    free(p);
-    hash_hex(&h, hex);
-    snprintf(expect, sizeof expect, "%s %d\nkey %s\nbytes %zu\nhash %s\n",
-             SUM_MAGIC, TP_CODEGEN_FORMAT, key, n, hex);
-    ok = strcmp((const char *)s, expect) == 0;
-    if (!ok)
-        snprintf(why, len, "%s",
-                 strncmp((const char *)s, SUM_MAGIC, strlen(SUM_MAGIC)) != 0
-                     ? "its checksum file is not one of ours"
-                 : strstr((const char *)s, key) == NULL
-                     ? "it belongs to another tape or compiler"
-                     : "its object does not match its checksum (corrupt)");
-    free(s);
-    return ok ? 1 : -1;
-}
-
 /* ---- loading and checking ---------------------------------------------- */
 
 static void unload(tp_compiled *c)
@@ -254,8 +452,11 @@ static void unload(tp_compiled *c)
     c->dl = NULL;
 }
 
-static int load(tp_compiled *c, const char *so, const char *key,
-                tp_compile_info *info)
+/* Load file (a verified private copy; unlinked here, loaded or not) as
+ * the compiled form of c's tape with key; so names the entry in
+ * messages. 0, or -1 with info->msg. */
+static int load(tp_compiled *c, const char *file, const char *so,
+                const char *key, tp_compile_info *info)
 {
     const int *format;
     const uint32_t *nops;
@@ -263,7 +464,8 @@ static int load(tp_compiled *c, const char *so, const char *key,
     const int *P;
     const unsigned *sweeps;
     const char *k;
-    c->dl = dlopen(so, RTLD_NOW | RTLD_LOCAL);
+    c->dl = dlopen(file, RTLD_NOW | RTLD_LOCAL);
+    unlink(file);
     if (!c->dl) {
         const char *e = dlerror();
         say(info, "cannot load %s: %s", so, e ? e : "unknown error");
@@ -410,59 +612,177 @@ done:
     return rc;
 }
 
-/* ---- the public calls -------------------------------------------------- */
 
-static int build(const char *dir, const char *base, const char *key,
-                 const tp_sbuf *src, const char *cc, const char *flags,
-                 int parts, tp_compile_info *info)
+/* ---- entries ------------------------------------------------------------- */
+
+/* Load the entry base (base.so, base.sum in the cache dfd, real path
+ * canon) into c and check it at x: 1 if it is in use; 0 if there is no
+ * entry; -1 and why if there is one that must not be used. Nothing of
+ * the object is loaded before its bytes match its checksum. */
+static int load_entry(tp_compiled *c, int dfd, const char *canon,
+                      const char *base, const char *key, const double *x,
+                      tp_compile_info *info, char *why, size_t len)
 {
-    static atomic_uint counter;
-    char tc[PATH_LEN], tso[PATH_LEN], tsum[PATH_LEN], log[PATH_LEN];
-    char so[PATH_LEN], sum[PATH_LEN], c[PATH_LEN], tb[PATH_LEN];
-    char tbase[160];
-    const unsigned id = atomic_fetch_add(&counter, 1u);
-    int rc = -1;
-    snprintf(tbase, sizeof tbase, "%.64s.%ld.%u.tmp", base, (long)getpid(),
-             id);
-    if (path_of(so, sizeof so, dir, base, ".so") != 0 ||
-        path_of(sum, sizeof sum, dir, base, ".sum") != 0 ||
-        path_of(c, sizeof c, dir, base, ".c") != 0 ||
-        path_of(log, sizeof log, dir, base, ".log") != 0 ||
-        path_of(tc, sizeof tc, dir, tbase, ".c") != 0 ||
-        path_of(tb, sizeof tb, dir, tbase, "") != 0 ||
-        path_of(tso, sizeof tso, dir, tbase, ".so") != 0 ||
-        path_of(tsum, sizeof tsum, dir, tbase, ".sum") != 0) {
-        say(info, "the cache directory's name is too long: %s", dir);
+    char so[80], sum[80], text[MAX_SUM + 1], expect[MAX_SUM + 1], hex[65],
+        want[65], copy[PATH_LEN];
+    struct stat st;
+    long long bytes = -1;
+    ssize_t r;
+    size_t have = 0;
+    int fd;
+    snprintf(so, sizeof so, "%s.so", base);
+    snprintf(sum, sizeof sum, "%s.sum", base);
+    if (fstatat(dfd, so, &st, AT_SYMLINK_NOFOLLOW) != 0 && errno == ENOENT &&
+        fstatat(dfd, sum, &st, AT_SYMLINK_NOFOLLOW) != 0 && errno == ENOENT)
+        return 0;
+    fd = open_owned(dfd, sum, "its checksum file", MAX_SUM, &st, why, len);
+    if (fd < 0)
+        return -1;
+    while (have < MAX_SUM &&
+           ((r = read(fd, text + have, MAX_SUM - have)) > 0 ||
+            (r < 0 && errno == EINTR)))
+        have += r > 0 ? (size_t)r : 0;
+    close(fd);
+    text[have] = '\0';
+    sum_text(expect, sizeof expect, key, 0, "");
+    *strstr(expect, "\nbytes ") = '\0';
+    if (strncmp(text, SUM_MAGIC, strlen(SUM_MAGIC)) != 0) {
+        snprintf(why, len, "its checksum file is not one of ours");
         return -1;
     }
-    if (write_file(tc, src->p, src->len) != 0) {
-        say(info, "cannot write %s: %s", tc, strerror(errno));
+    if (strncmp(text, expect, strlen(expect)) != 0) {
+        snprintf(why, len, "it belongs to another tape or compiler");
+        return -1;
+    }
+    if (sscanf(text + strlen(expect), "\nbytes %lld\nsha256 %64[0-9a-f]",
+               &bytes, want) != 2 ||
+        sum_text(expect, sizeof expect, key, bytes, want) >= MAX_SUM ||
+        strcmp(text, expect) != 0) {
+        snprintf(why, len, "its checksum file is not one of ours");
+        return -1;
+    }
+    fd = open_owned(dfd, so, "its object", MAX_OBJECT, &st, why, len);
+    if (fd < 0)
+        return -1;
+    if ((long long)st.st_size != bytes) {
+        close(fd);
+        snprintf(why, len, "its object does not match its checksum "
+                           "(corrupt)");
+        return -1;
+    }
+    r = hash_copy(fd, st.st_size, canon, base, copy, sizeof copy, hex, why,
+                  len);
+    close(fd);
+    if (r != 0)
+        return -1;
+    if (strcmp(hex, want) != 0) {
+        unlink(copy);
+        snprintf(why, len, "its object does not match its checksum "
+                           "(corrupt)");
+        return -1;
+    }
+    if (load(c, copy, info->path, key, info) != 0) {
+        snprintf(why, len, "%s", info->msg);
+        return -1;
+    }
+    info->t_check = now();
+    if (check(c, x, info) != 0) {
+        unload(c);
+        snprintf(why, len, "%s", info->msg);
+        return -1;
+    }
+    info->t_check = now() - info->t_check;
+    return 1;
+}
+
+/* Build src in a fresh folder of the cache (dfd, real path canon) with
+ * exe run as cc and flags, store it as the entry base (object, checksum,
+ * source) and leave a verified copy to load in copy: 0, or -1 with
+ * info->msg (the compiler's messages kept as base.log). The build folder
+ * is removed on every path. */
+static int build(int dfd, const char *canon, const char *base,
+                 const char *key, const tp_sbuf *src, const char *exe,
+                 const char *cc, const char *flags, int parts, char *copy,
+                 size_t clen, tp_compile_info *info)
+{
+    char wd[PATH_LEN], log_name[PATH_LEN], so[80], sum[80], csrc[80],
+        logb[80], hex[65], text[MAX_SUM], why[256];
+    const char *wname;
+    struct stat st;
+    int wfd = -1, fd, rc = -1;
+    clean_stale(dfd);
+    snprintf(so, sizeof so, "%s.so", base);
+    snprintf(sum, sizeof sum, "%s.sum", base);
+    snprintf(csrc, sizeof csrc, "%s.c", base);
+    snprintf(logb, sizeof logb, "%s.log", base);
+    if (snprintf(wd, sizeof wd, "%s/%s.tmp-XXXXXX", canon, base) >=
+            (int)sizeof wd ||
+        snprintf(log_name, sizeof log_name, "%s/%s", canon, logb) >=
+            (int)sizeof log_name) {
+        say(info, "the cache directory's name is too long: %.400s", canon);
+        return -1;
+    }
+    if (!mkdtemp(wd)) {
+        say(info, "cannot create a build folder in %.400s: %s", canon,
+            strerror(errno));
+        return -1;
+    }
+    wname = wd + strlen(canon) + 1;
+    wfd = openat(dfd, wname, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+    if (wfd < 0 || fstat(wfd, &st) != 0 ||
+        dir_safe(&st, wd, true, why, sizeof why) != 0) {
+        say(info, "the build folder %.400s is not ours", wd);
+        goto done;
+    }
+    if (write_new(wfd, "src.c", src->p, src->len) != 0) {
+        say(info, "cannot write %.400s/src.c: %s", wd, strerror(errno));
         goto done;
     }
     info->t_compile = now();
-    if (tp__run_build(cc, flags, tc, tso, tb, parts, log, info->msg,
+    if (tp__run_build(exe, cc, flags, wd, parts, log_name, info->msg,
                       sizeof info->msg) != 0) {
         info->t_compile = now() - info->t_compile;
+        renameat(wfd, "log", dfd, logb); /* the compiler's messages */
         goto done;
     }
     info->t_compile = now() - info->t_compile;
-    /* the object first, its checksum last: a reader trusts only the pair */
-    if (write_sum(tso, tsum, key) != 0 || rename(tso, so) != 0 ||
-        rename(tsum, sum) != 0 || rename(tc, c) != 0) {
-        say(info, "cannot store the compiled tape in %s: %s", dir,
-            strerror(errno));
+    fd = open_owned(wfd, "out.so", "the compiled object", MAX_OBJECT, &st,
+                    why, sizeof why);
+    if (fd < 0) {
+        say(info, "%s", why);
         goto done;
     }
-    unlink(log);
+    rc = hash_copy(fd, st.st_size, canon, base, copy, clen, hex, why,
+                   sizeof why);
+    close(fd);
+    if (rc != 0) {
+        say(info, "%s", why);
+        goto done;
+    }
+    rc = -1;
+    /* the object first, its checksum last: a reader trusts only the pair */
+    if (write_new(wfd, "sum", text,
+                  (size_t)sum_text(text, sizeof text, key,
+                                   (long long)st.st_size, hex)) != 0 ||
+        renameat(wfd, "out.so", dfd, so) != 0 ||
+        renameat(wfd, "sum", dfd, sum) != 0 ||
+        renameat(wfd, "src.c", dfd, csrc) != 0) {
+        say(info, "cannot store the compiled tape in %.400s: %s", canon,
+            strerror(errno));
+        unlink(copy);
+        goto done;
+    }
+    unlinkat(dfd, logb, 0);
     rc = 0;
 done:
-    unlink(tc);
-    unlink(tso);
-    unlink(tsum);
+    if (wfd >= 0)
+        close(wfd);
+    remove_tree(dfd, wname);
     return rc;
 }
 
-/* Ops from which a tape counts as large for building it (below). */
+/* ---- the public calls -------------------------------------------------- */
+
 #define LARGE_TAPE 500u
 
 /* How many compilers build t side by side: one part for about every 500
@@ -484,13 +804,13 @@ int tp_compile(const tp_tape *t, const tp_compile_opts *o,
 {
     tp_compile_info local, *info = info_out ? info_out : &local;
     const char *cc, *flags;
-    char dir[PATH_LEN], base[64], key[33], so[PATH_LEN], sum[PATH_LEN],
-        why[sizeof info->msg];
+    char dir[PATH_LEN], canon[PATH_LEN], base[64], key[65], exe[PATH_LEN],
+        ident[4096], copy[PATH_LEN], why[sizeof info->msg];
     tp_sbuf src = {0};
     tp_compiled *c = NULL;
-    hash128 h;
+    tp_sha256 h;
     double t0;
-    int have, rc, P, lout;
+    int have, rc, P, lout, dfd = -1, where;
     unsigned sweeps;
     static const int format = TP_CODEGEN_FORMAT;
 
@@ -514,9 +834,13 @@ int tp_compile(const tp_tape *t, const tp_compile_opts *o,
      * instructions). */
     if (!flags)
         flags = t->n_ops >= LARGE_TAPE ? "-O1 -fno-dse -fno-tree-dse" : "-O1";
-    if (cache_dir(o, dir, sizeof dir) != 0) {
-        say(info, "no cache directory for compiled tapes (set "
-                  "AUTOEOM_CACHE_DIR or HOME)");
+    where = cache_dir(o, dir, sizeof dir);
+    if (where != 0) {
+        say(info, where == -2 ? "the cache directory's name is longer than "
+                                "%d bytes"
+                              : "no cache directory for compiled tapes (set "
+                                "AUTOEOM_CACHE_DIR or HOME)",
+            PATH_LEN - 1);
         return TP_ERR_COMPILE;
     }
     t0 = now();
@@ -559,27 +883,28 @@ int tp_compile(const tp_tape *t, const tp_compile_opts *o,
                         "dependency groups");
         return rc;
     }
-    hash_init(&h);
-    hash_bytes(&h, &format, sizeof format);
-    hash_bytes(&h, cc, strlen(cc) + 1);
-    hash_bytes(&h, flags, strlen(flags) + 1);
-    hash_bytes(&h, src.p, src.len);
-    hash_hex(&h, key);
+    /* the key: the compiler that runs, as it is now, and what it builds */
+    if (tp__compiler_path(cc, exe, sizeof exe, info->msg, sizeof info->msg) !=
+        0) {
+        tp__sbuf_free(&src);
+        return TP_ERR_COMPILE;
+    }
+    tp__compiler_identity(exe, cc, ident, sizeof ident);
+    tp__sha256_init(&h);
+    tp__sha256_update(&h, &format, sizeof format);
+    tp__sha256_update(&h, cc, strlen(cc) + 1);
+    tp__sha256_update(&h, ident, strlen(ident) + 1);
+    tp__sha256_update(&h, flags, strlen(flags) + 1);
+    tp__sha256_update(&h, src.p ? src.p : "", src.len);
+    tp__sha256_hex(&h, key);
+    key[32] = '\0'; /* 128 bits name an entry */
     tp__sbuf_printf(&src,
                     "#if TPC_PART == 0\n"
                     "TPC_EXPORT const char tpc_key[] = \"%s\";\n#endif\n",
                     key);
     info->t_emit = now() - t0;
     info->source_bytes = src.len;
-    snprintf(base, sizeof base, "tp-%s", key);
-    if (path_of(so, sizeof so, dir, base, ".so") != 0 ||
-        path_of(sum, sizeof sum, dir, base, ".sum") != 0 ||
-        strlen(so) >= sizeof info->path) {
-        tp__sbuf_free(&src);
-        say(info, "the cache directory's name is too long: %.400s", dir);
-        return TP_ERR_COMPILE;
-    }
-    memcpy(info->path, so, strlen(so) + 1);
+    snprintf(base, sizeof base, "tp-%.32s", key);
     c = calloc(1, sizeof *c);
     if (src.failed || !c) {
         rc = TP_ERR_NOMEM;
@@ -595,37 +920,36 @@ int tp_compile(const tp_tape *t, const tp_compile_opts *o,
         c->lmask |= 1u << t->group[rc];
     for (rc = 0; rc < (int)t->n_indep; rc++)
         c->jmask |= 1u << t->group[rc];
-    if (make_dirs(dir) != 0) {
-        say(info, "cannot create the cache directory %s: %s", dir,
-            strerror(errno));
+    /* a directory that fails its checks is not used: the interpreter runs */
+    dfd = open_cache(dir, canon, sizeof canon, info->msg, sizeof info->msg);
+    if (dfd < 0) {
         rc = TP_ERR_COMPILE;
         goto fail;
     }
-    have = entry_ok(so, sum, key, why, sizeof why);
-    if (have == 1) {
-        t0 = now();
-        if (load(c, so, key, info) == 0) {
-            info->t_load = now() - t0;
-            t0 = now();
-            if (check(c, o ? o->x : NULL, info) == 0) {
-                info->t_check = now() - t0;
-                info->cached = 1;
-                goto done;
-            }
-            unload(c);
-        }
-        memcpy(why, info->msg, sizeof why);
-        have = -1;
-    }
-    if (have == -1)
-        info->rebuilt = 1;
-    info->parts = build_parts(t, o);
-    if (build(dir, base, key, &src, cc, flags, info->parts, info) != 0) {
+    if ((size_t)snprintf(info->path, sizeof info->path, "%s/%s.so", canon,
+                         base) >= sizeof info->path) {
+        say(info, "the cache directory's name is too long: %.400s", canon);
         rc = TP_ERR_COMPILE;
         goto fail;
     }
     t0 = now();
-    if (load(c, so, key, info) != 0) {
+    have = load_entry(c, dfd, canon, base, key, o ? o->x : NULL, info, why,
+                      sizeof why);
+    if (have == 1) {
+        info->t_load = now() - t0 - info->t_check;
+        info->cached = 1;
+        goto done;
+    }
+    if (have == -1)
+        info->rebuilt = 1;
+    info->parts = build_parts(t, o);
+    if (build(dfd, canon, base, key, &src, exe, cc, flags, info->parts, copy,
+              sizeof copy, info) != 0) {
+        rc = TP_ERR_COMPILE;
+        goto fail;
+    }
+    t0 = now();
+    if (load(c, copy, info->path, key, info) != 0) {
         rc = TP_ERR_COMPILE;
         goto fail;
     }
@@ -638,12 +962,15 @@ int tp_compile(const tp_tape *t, const tp_compile_opts *o,
     }
     info->t_check = now() - t0;
     if (info->rebuilt)
-        say(info, "rebuilt the cache entry %.200s: %.280s", so, why);
+        say(info, "rebuilt the cache entry %.200s: %.280s", info->path, why);
 done:
+    close(dfd);
     tp__sbuf_free(&src);
     *out = c;
     return TP_OK;
 fail:
+    if (dfd >= 0)
+        close(dfd);
     tp__sbuf_free(&src);
     free(c);
     return rc;
