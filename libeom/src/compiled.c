@@ -137,8 +137,9 @@ int eom_system_set_compiled(eom_system *s, int on,
         /* the residual tape serves the implicit integrators' Jacobians
          * (seeded directions over every op, a few calls per step): it
          * stays on the interpreter; so does the velocity constraints'
-         * tape (two sweeps per evaluation, docs/libeom.md) */
-        if (!t[k]->tape || k == 5 || k == 6)
+         * tape (two sweeps per evaluation, docs/libeom.md), and the
+         * initial state's (evaluated once a run) */
+        if (!t[k]->tape || k == 5 || k == 6 || k == 7)
             continue;
         info->tapes++;
         if (s->shared->cc[k]) {

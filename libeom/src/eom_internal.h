@@ -93,6 +93,7 @@ struct eom_model {
     eom_cblist T, V, R, phi;
     eom_cblist psi; /* velocity constraint blocks */
     eom_callback L, Q;
+    eom_callback x0; /* the initial state from the parameters, or unset */
     int n_con;      /* total over the constraint blocks */
     int n_vcon;     /* total over the velocity constraint blocks */
     eom_attached *att;
@@ -106,7 +107,8 @@ typedef enum eom_role {
     EOM_ROLE_STATE, /* q, qd: T, V, L, R, probes */
     EOM_ROLE_FORCE, /* q, qd, t */
     EOM_ROLE_CONSTRAINT, /* q only */
-    EOM_ROLE_VCONSTRAINT /* q, qd, t: velocity constraints, linear in qd */
+    EOM_ROLE_VCONSTRAINT, /* q, qd, t: velocity constraints, linear in qd */
+    EOM_ROLE_INITIAL /* parameters only: the initial state */
 } eom_role;
 
 /* What eom_time gives in a recording. */
@@ -158,7 +160,8 @@ typedef struct eom_tape {
 
 /* How many systems share one set of tapes: the last one frees them.
  * Clones may be freed by different threads, hence atomic. */
-#define EOM_N_TAPES 7 /* L, E, R, Q, phi, residual, psi: eom__tapes */
+#define EOM_N_TAPES 8 /* L, E, R, Q, phi, residual, psi, initial state:
+                         eom__tapes */
 typedef struct eom_shared {
     atomic_int refs;
     tp_compiled *cc[EOM_N_TAPES]; /* compiled tapes, or NULL */
@@ -174,6 +177,8 @@ struct eom_system {
     double *pval;                        /* parameter values in use */
     eom_tape tL, tE, tR, tQ, tphi;
     eom_tape tpsi;    /* velocity constraints (mv > 0), interpreted */
+    eom_tape tx0;     /* the initial state from the parameters, or none
+                         (initial.c), interpreted */
     double *vx;       /* 2n + 1: a sweep's input (q, qd) of the psi tape */
     double *vdir;     /* 2n + 1: its direction (qd, 0, 1) */
     int *ipiv;        /* mh: pivots of the holonomic block's solve */

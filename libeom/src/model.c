@@ -367,6 +367,19 @@ int eom_model_add_constraints(eom_model *m, int count, eom_vector_fn phi,
     return constraint_cb(m, count, phi, user, false);
 }
 
+int eom_model_set_initial(eom_model *m, eom_vector_fn x0, void *user)
+{
+    if (!m)
+        return EOM_ERR_NULL;
+    if (!x0)
+        return model_fail(m, EOM_ERR_NULL, "initial state function is NULL");
+    memset(&m->x0, 0, sizeof m->x0);
+    m->x0.fn.vector = x0;
+    m->x0.user = user;
+    m->x0.set = true;
+    return EOM_OK;
+}
+
 int eom_model_add_velocity_constraints(eom_model *m, int count,
                                        eom_vector_fn psi, void *user)
 {
@@ -419,6 +432,9 @@ tp_val eom_q(eom_ctx *c, int i)
 {
     if (!c)
         return ctx_bad(c, "eom_q: NULL context");
+    if (c->role == EOM_ROLE_INITIAL)
+        return ctx_bad(c, "eom_q: the initial state depends on the "
+                          "parameters only");
     if (i < 0 || i >= c->n)
         return ctx_bad(c, "eom_q: coordinate %d outside 0 .. %d", i,
                        c->n - 1);
@@ -431,6 +447,9 @@ tp_val eom_qd(eom_ctx *c, int i)
         return ctx_bad(c, "eom_qd: NULL context");
     if (c->role == EOM_ROLE_CONSTRAINT)
         return ctx_bad(c, "eom_qd: constraints may depend on q only");
+    if (c->role == EOM_ROLE_INITIAL)
+        return ctx_bad(c, "eom_qd: the initial state depends on the "
+                          "parameters only");
     if (i < 0 || i >= c->n)
         return ctx_bad(c, "eom_qd: coordinate %d outside 0 .. %d", i,
                        c->n - 1);
@@ -441,6 +460,9 @@ tp_val eom_time(eom_ctx *c)
 {
     if (!c)
         return ctx_bad(c, "eom_time: NULL context");
+    if (c->role == EOM_ROLE_INITIAL)
+        return ctx_bad(c, "eom_time: the initial state depends on the "
+                          "parameters only");
     switch (c->time_as) {
     case EOM_TIME_INDEP:
         c->read_time = true;

@@ -208,6 +208,12 @@ static int body_phi(eom_ctx *c)
     return 0;
 }
 
+/* The initial state from the parameters: outputs x01 .. x0(2n). */
+static int body_x0(eom_ctx *c)
+{
+    return body_vector(c, &c->m->x0, 2 * c->n, 0, "initial state", "x0", 0);
+}
+
 /* The velocity constraint blocks, stacked in the order they were added,
  * as outputs psi1, psi2, ... */
 static int body_psi(eom_ctx *c)
@@ -411,6 +417,7 @@ void eom_system_free(eom_system **sp)
     tape_free(&s->tQ, last);
     tape_free(&s->tphi, last);
     tape_free(&s->tpsi, last);
+    tape_free(&s->tx0, last);
     /* the sparse Jacobian's workspace replays the residual tape: first */
     eom__jsparse_free(&s->jsp);
     eom__ssparse_free(&s->ssp);
@@ -662,6 +669,9 @@ int eom_system_new(eom_system **out, const eom_model *m, char *errmsg,
                       "velocity constraints", s->n, true)) != EOM_OK ||
          (rc = eom__check_velocity_rows(s)) != EOM_OK))
         goto fail;
+    if (m->x0.set && (rc = record(s, m, &s->tx0, EOM_ROLE_INITIAL, body_x0,
+                                  "initial state", 1, false)) != EOM_OK)
+        goto fail;
     if (s->m > 0 && (rc = setup_klu(s)) != EOM_OK)
         goto fail;
     s->reads_time = s->tL.tindex >= 0 || s->tE.tparam >= 0 ||
@@ -754,7 +764,8 @@ int eom_system_clone(eom_system **out, const eom_system *s, char *errmsg,
         (rc = clone_tape(c, &c->tR, &s->tR)) != EOM_OK ||
         (rc = clone_tape(c, &c->tQ, &s->tQ)) != EOM_OK ||
         (rc = clone_tape(c, &c->tphi, &s->tphi)) != EOM_OK ||
-        (rc = clone_tape(c, &c->tpsi, &s->tpsi)) != EOM_OK)
+        (rc = clone_tape(c, &c->tpsi, &s->tpsi)) != EOM_OK ||
+        (rc = clone_tape(c, &c->tx0, &s->tx0)) != EOM_OK)
         goto fail;
     /* the residual tape's workspace is made on first use */
     c->tRes.tape = s->tRes.tape;
@@ -869,6 +880,7 @@ void eom__tapes(eom_system *s, eom_tape *t[EOM_N_TAPES])
     t[4] = &s->tphi;
     t[5] = &s->tRes;
     t[6] = &s->tpsi;
+    t[7] = &s->tx0;
 }
 
 int eom_set_param(eom_system *s, int k, double value)
@@ -900,14 +912,27 @@ double eom_get_param(const eom_system *s, int k)
 
 int eom_initial_state(const eom_system *s, double *x)
 {
-    int i;
+    int i, rc;
+    double *in;
     if (!s || !x)
         return EOM_ERR_NULL;
-    for (i = 0; i < s->n; i++) {
-        x[i] = s->coords[i].v0;
-        x[s->n + i] = s->coords[i].v1;
+    if (!s->tx0.tape) {
+        for (i = 0; i < s->n; i++) {
+            x[i] = s->coords[i].v0;
+            x[s->n + i] = s->coords[i].v1;
+        }
+        return EOM_OK;
     }
-    return EOM_OK;
+    /* recorded from the parameters: its workspace follows eom_set_param;
+     * the tape reads no independent, but a sweep takes all of them */
+    in = calloc((size_t)tp_tape_n_indep(s->tx0.tape) + 1, sizeof *in);
+    if (!in)
+        return EOM_ERR_NOMEM;
+    rc = tp_eval(s->tx0.ws, in, x);
+    free(in);
+    if (rc == TP_WARN_NONFINITE)
+        return EOM_ERR_NONFINITE;
+    return rc == TP_OK ? EOM_OK : EOM_ERR_NOMEM;
 }
 
 int eom_set_baumgarte(eom_system *s, double alpha, double beta)

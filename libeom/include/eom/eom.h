@@ -160,6 +160,15 @@ EOM_API int eom_model_add_constraints(eom_model *m, int count,
 EOM_API int eom_model_add_velocity_constraints(eom_model *m, int count,
                                                eom_vector_fn psi,
                                                void *user);
+/* The default initial state as a function of the parameters: x0 sets
+ * out[0 .. 2n-1], the coordinates then the rates, from eom_param values
+ * and constants only (eom_q, eom_qd and eom_time are errors in it). It
+ * is recorded once with the system; eom_initial_state then gives it at
+ * the parameters in use, so that a start can follow a parameter (a
+ * vehicle's wheel rates from its speed). Without it, eom_initial_state
+ * gives the values passed to eom_model_add_coord. */
+EOM_API int eom_model_set_initial(eom_model *m, eom_vector_fn x0,
+                                  void *user);
 /* Give the model data to free with it (for example an element's
  * description that its callbacks read). free_fn(data) is called by
  * eom_model_free; on failure it is called at once. */
@@ -293,7 +302,9 @@ EOM_API int eom_param_index(const eom_system *s, const char *name);
 EOM_API int eom_set_param(eom_system *s, int k, double value);
 EOM_API double eom_get_param(const eom_system *s, int k);
 
-/* The default initial state x0 = (q0, qd0) of the model (2n values). */
+/* The default initial state x0 = (q0, qd0) of the model (2n values): at
+ * the parameters in use when the model set one with eom_model_set_initial
+ * (EOM_ERR_NONFINITE when it is not finite there). */
 EOM_API int eom_initial_state(const eom_system *s, double *x);
 
 /* Baumgarte stabilization of the constraints at acceleration level:
