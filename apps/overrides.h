@@ -30,10 +30,12 @@ int override_parse(const char *arg, override *o, char *err, size_t errlen);
 int overrides_settings(const override *ov, int n, const demo *d,
                        double *settings, char *err, size_t errlen);
 
-/* The other overrides, in order: parameters of s through eom_set_param,
- * NAME and NAME_dot into the initial state x (2n values: q, then qd).
- * Overrides that name a setting of d are skipped. Returns 0, or -1 with a
- * message in err that names the unknown name and the known ones. */
+/* The other overrides: parameters of s through eom_set_param first, then
+ * x (2n values: q, then qd) taken again from eom_initial_state when a
+ * parameter was set (a model's start may follow its parameters), then
+ * NAME and NAME_dot into x. Overrides that name a setting of d are
+ * skipped. Returns 0, or -1 with a message in err that names the unknown
+ * name and the known ones. */
 int overrides_apply(const override *ov, int n, const demo *d, eom_system *s,
                     double *x, char *err, size_t errlen);
 

@@ -20,6 +20,7 @@ typedef struct lang_cb {
     int stmt; /* energy statement, or -1 */
     int flat; /* probe: member of the family */
     int comp; /* probe: component of a vector or matrix (0: a scalar's) */
+    int initial; /* the initial state's callback */
 } lang_cb;
 
 /* The suffix of component k of a value of n components: a vector's
@@ -48,6 +49,7 @@ static void inst_free(void *v)
     free(in->memo);
     free(in->arena);
     free(in->pmemo);
+    free(in->pdefault);
     free(in->pmemo_epoch);
     free(in->cbs);
     lang_prog_release(in->p);
@@ -168,7 +170,7 @@ static const char *desc_text(const lang_prog *p, const sym *y, char *buf,
 static int declare(lang_inst *in, eom_model *m)
 {
     const lang_prog *p = in->p;
-    int s, j, rc, np = 0, nc = 0;
+    int s, j, rc, np = 0, nc = 0, pass;
     char name[LANG_MAX_NAME + 48], desc[256], what[LANG_MAX_NAME + 64];
     for (s = 0; s < p->nsyms; s++) {
         const sym *y = &p->syms[s];
@@ -188,14 +190,19 @@ static int declare(lang_inst *in, eom_model *m)
         }
     }
     in->pname = calloc((size_t)np + 1, sizeof *in->pname);
+    in->pdefault = calloc((size_t)np + 1, sizeof *in->pdefault);
     in->pmemo = calloc((size_t)np + 1, sizeof *in->pmemo);
     in->pmemo_epoch = calloc((size_t)np + 1, sizeof *in->pmemo_epoch);
-    if (!in->pname || !in->pmemo || !in->pmemo_epoch)
+    if (!in->pname || !in->pdefault || !in->pmemo || !in->pmemo_epoch)
         goto nomem;
-    for (s = 0; s < p->nsyms; s++) {
-        const sym *y = &p->syms[s];
-        family *f = &in->fam[s];
-        if (y->kind != S_PARAM && y->kind != S_COORD)
+    /* the parameters first: a coordinate's initial value may use them */
+    for (pass = 0; pass < 2 * p->nsyms; pass++) {
+        const sym *y;
+        family *f;
+        s = pass % p->nsyms;
+        y = &p->syms[s];
+        f = &in->fam[s];
+        if (y->kind != (pass < p->nsyms ? S_PARAM : S_COORD))
             continue;
         f->first = y->kind == S_PARAM ? in->nparams : eom_model_ncoords(m);
         for (j = 0; j < f->size; j++) {
@@ -205,12 +212,15 @@ static int declare(lang_inst *in, eom_model *m)
             member_name(y, idx, name, sizeof name);
             snprintf(what, sizeof what, "the %s",
                      y->kind == S_PARAM ? "default" : "initial value");
-            if (const_value(in, y->value, what, name, &v0) < 0)
+            if (y->kind == S_COORD)
+                in->pdefault_on = 1;
+            rc = const_value(in, y->value, what, name, &v0);
+            if (rc == 0 && y->kind == S_COORD)
+                rc = const_value(in, y->rate, "the initial rate", name, &v1);
+            in->pdefault_on = 0;
+            if (rc < 0)
                 return -1;
             if (y->kind == S_COORD) {
-                if (const_value(in, y->rate, "the initial rate", name, &v1) <
-                    0)
-                    return -1;
                 rc = eom_model_add_coord(m, name, p->units_off && !y->unit[0]
                                                       ? NULL
                                                       : y->unit,
@@ -219,9 +229,11 @@ static int declare(lang_inst *in, eom_model *m)
                 rc = eom_model_add_param(m, name, y->unit[0] ? y->unit : NULL,
                                          v0, desc_text(p, y, desc,
                                                        sizeof desc));
-                if (rc >= 0 &&
-                    !(in->pname[in->nparams++] = lang_strdup(name)))
-                    goto nomem;
+                if (rc >= 0) {
+                    in->pdefault[in->nparams] = v0;
+                    if (!(in->pname[in->nparams++] = lang_strdup(name)))
+                        goto nomem;
+                }
             }
             if (rc == EOM_ERR_NOMEM)
                 goto nomem;
@@ -398,6 +410,41 @@ static int cb_probe(eom_ctx *c, void *user, tp_val *out)
     return 0;
 }
 
+/* The initial state, recorded from the parameters: every coordinate's
+ * initial value, then every initial rate, as declared (a number where
+ * none is written). Used when an initial value reads a parameter, so
+ * that the start follows --set and eom_set_param. */
+static int cb_initial(eom_ctx *c, void *user, tp_val *out)
+{
+    lang_cb *cb = user;
+    lang_inst *in = cb->in;
+    const lang_prog *p = in->p;
+    const int n = in->ncoords;
+    int s, j, k;
+    lang_begin(in, c, EOM_ROLE_INITIAL, "the initial state");
+    for (s = 0; s < p->nsyms; s++) {
+        const sym *y = &p->syms[s];
+        if (y->kind != S_COORD)
+            continue;
+        for (j = 0; j < in->fam[s].size; j++) {
+            long idx[LANG_MAX_IDX];
+            const int flat = in->fam[s].first + j;
+            bind_member(in, s, j, idx);
+            for (k = 0; k < 2; k++) {
+                const int nd = k == 0 ? y->value : y->rate;
+                lval v;
+                memset(&v, 0, sizeof v);
+                v.k = 1;
+                if (nd >= 0 && lang_eval(in, nd, &v) < 0)
+                    return cb_fail(c, in);
+                out[k * n + flat] = lang_tape(in, v);
+            }
+        }
+        unbind(in, s);
+    }
+    return 0;
+}
+
 static lang_cb *new_cb(lang_inst *in, int s, int stmt, int flat)
 {
     lang_cb *cb = &in->cbs[in->ncbs++];
@@ -406,6 +453,7 @@ static lang_cb *new_cb(lang_inst *in, int s, int stmt, int flat)
     cb->stmt = stmt;
     cb->flat = flat;
     cb->comp = 0;
+    cb->initial = 0;
     return cb;
 }
 
@@ -416,6 +464,7 @@ static int add_callbacks(lang_inst *in, eom_model *m)
     char name[LANG_MAX_NAME + 48];
     for (k = 0; k < p->nstmts; k++)
         ncb++;
+    ncb++; /* the initial state */
     for (k = 0; k < p->nsyms; k++)
         if (p->syms[k].kind == S_PROBE)
             ncb += in->fam[k].size * (p->syms[k].shape > SH_SCALAR
@@ -450,6 +499,11 @@ static int add_callbacks(lang_inst *in, eom_model *m)
     }
     if (rc >= 0 && nforce > 0)
         rc = eom_model_set_forces(m, cb_forces, new_cb(in, -1, -1, 0));
+    if (rc >= 0 && in->init_params) {
+        lang_cb *cb = new_cb(in, -1, -1, 0);
+        cb->initial = 1;
+        rc = eom_model_set_initial(m, cb_initial, cb);
+    }
     for (k = 0; k < p->nsyms && rc >= 0; k++) {
         const sym *y = &p->syms[k];
         if (y->kind == S_CONSTRAINT && in->fam[k].size > 0) {
@@ -525,7 +579,7 @@ static int check_body(tp_rec *r, void *user)
                 rc = cb_probe(a->c, cb, &one);
             break;
         case EOM_ROLE_FORCE:
-            if (cb->stmt < 0 && cb->sym < 0) {
+            if (cb->stmt < 0 && cb->sym < 0 && !cb->initial) {
                 for (j = 0; j < a->c->n; j++)
                     a->out[j] = tp_const(a->c->r, 0.0);
                 rc = cb_forces(a->c, cb, a->out);

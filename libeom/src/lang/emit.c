@@ -194,6 +194,17 @@ static int param_ref(lang_inst *in, const node *nd, lval *out)
     const sym *y = &in->p->syms[nd->sym];
     long idx[LANG_MAX_IDX];
     int flat;
+    if (!in->r && in->pdefault && in->pdefault_on) {
+        /* a coordinate's initial value or rate: the parameter's default
+         * now, and its value in use when the run starts (the model
+         * records its initial state, build.c) */
+        if (indices(in, nd, idx) < 0 ||
+            (flat = lang_family_index(in, nd->sym, idx, nd->tok)) < 0)
+            return -1;
+        *out = konst(in->pdefault[flat + in->fam[nd->sym].first]);
+        in->init_params = 1;
+        return 0;
+    }
     if (!in->r) {
         lang_fail(in, nd->tok,
                   "a parameter can change between runs; a value fixed when "

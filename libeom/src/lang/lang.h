@@ -354,6 +354,12 @@ typedef struct lang_inst {
     lval *arena;            /* components of memoized vectors and time
                                derivatives, this recording's only */
     int narena, cap_arena;
+    double *pdefault;       /* [nparams] parameters' defaults, while the
+                               coordinates' initial values are read (they
+                               may use parameters), else NULL */
+    int pdefault_on;        /* reading a coordinate's initial value */
+    int init_params;        /* an initial value used a parameter: the
+                               model records its initial state */
     lval *pmemo;            /* [nparams] parameter values this recording */
     uint32_t *pmemo_epoch;
     /* the recording in progress (r == NULL: constants only) */
