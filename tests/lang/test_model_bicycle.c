@@ -1,0 +1,309 @@
+/* test_model_bicycle.c - models/whipple-bicycle.eom against the benchmark
+ * of Meijaard, Papadopoulos, Ruina and Schwab (Proc. R. Soc. A 463, 2007).
+ *
+ *  - The start follows the forward speed v (an initial rate written as
+ *    an expression of a parameter): x_dot = v, the wheels' rates v/rR
+ *    and v/rF, after eom_set_param, and upright straight running is
+ *    steady (no acceleration).
+ *  - The lean and steer equations about upright straight running,
+ *    M qdd + v C1 qd + (g K0 + v^2 K2) q = 0 with the benchmark's
+ *    published matrices (eq. 5.4, 14 digits): the model's accelerations
+ *    of lean and steer, from central differences in lean, steer and
+ *    their rates at states made consistent with the constraints (pitch
+ *    from the ground contact, the dependent rates from the rolling
+ *    constraints), against -M^-1 (g K0 + v^2 K2) and -M^-1 v C1, at
+ *    0, 2, 5 and 8 m/s, to the differences' own accuracy (1e-7).
+ *  - The non-linear bicycle released with a small lean at 4.6 m/s (in
+ *    the self-stable range 4.29 .. 6.02 m/s) recovers upright; at 3 m/s
+ *    it falls; the rolling constraints held to 1e-12 and E + W constant
+ *    to 1e-10 over 10 s.
+ *  - eom_model_set_initial from C: the start follows a parameter, and an
+ *    initial state that reads a coordinate is refused.
+ *
+ * usage: test_model_bicycle MODELS_DIR */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "eom/model_file.h"
+
+enum { X, Y, YAW, LEAN, PITCH, STEER, THR, THF, N = 8 };
+
+static const double Mb[4] = {80.81722, 2.31941332208709, 2.31941332208709,
+                             0.29784188199686};
+static const double C1b[4] = {0.0, 33.86641391492494, -0.85035641456978,
+                              1.68540397397560};
+static const double K0b[4] = {-80.95, -2.59951685249872, -2.59951685249872,
+                              -0.80329488458618};
+static const double K2b[4] = {0.0, 76.59734589573222, 0.0,
+                              2.65431523794604};
+
+/* Solve the 5 x 5 system A z = r in place (partial pivoting). */
+static void solve5(double *A, double *r)
+{
+    int i, j, k;
+    for (k = 0; k < 5; k++) {
+        int p = k;
+        double t;
+        for (i = k + 1; i < 5; i++)
+            if (fabs(A[5 * i + k]) > fabs(A[5 * p + k]))
+                p = i;
+        for (j = 0; j < 5; j++) {
+            t = A[5 * k + j];
+            A[5 * k + j] = A[5 * p + j];
+            A[5 * p + j] = t;
+        }
+        t = r[k];
+        r[k] = r[p];
+        r[p] = t;
+        for (i = k + 1; i < 5; i++) {
+            double f = A[5 * i + k] / A[5 * k + k];
+            for (j = k; j < 5; j++)
+                A[5 * i + j] -= f * A[5 * k + j];
+            r[i] -= f * r[k];
+        }
+    }
+    for (k = 4; k >= 0; k--) {
+        double t = r[k];
+        for (j = k + 1; j < 5; j++)
+            t -= A[5 * k + j] * r[j];
+        r[k] = t / A[5 * k + k];
+    }
+}
+
+/* A state on the constraints: lean, steer and their rates, the rear
+ * wheel's rate from the start (v / rR); pitch from the ground contact
+ * (Newton), the rates of x, y, yaw, pitch and the front wheel from the
+ * constraints' velocity rows (linear in the rates). */
+static void consistent(eom_system *s, const double *x0, double le,
+                       double st, double led, double std_, double *x)
+{
+    static const int dep[5] = {X, Y, YAW, PITCH, THF};
+    double C[5 * N], phi[5], phid[5];
+    int it, i, j;
+    memset(x, 0, 2 * N * sizeof *x);
+    x[LEAN] = le;
+    x[STEER] = st;
+    x[N + LEAN] = led;
+    x[N + STEER] = std_;
+    x[N + THR] = x0[N + THR];
+    for (it = 0; it < 20; it++) {
+        eom_constraint_jacobian(s, x, C, phi);
+        x[PITCH] -= phi[0] / C[PITCH];
+    }
+    for (it = 0; it < 2; it++) {
+        double A[25], r[5];
+        eom_constraint_jacobian(s, x, C, phi);
+        eom_residuals(s, x, phi, phid);
+        for (i = 0; i < 5; i++) {
+            for (j = 0; j < 5; j++)
+                A[5 * i + j] = C[N * i + dep[j]];
+            r[i] = -phid[i];
+        }
+        solve5(A, r);
+        for (j = 0; j < 5; j++)
+            x[N + dep[j]] += r[j];
+    }
+}
+
+static void lean_steer_acc(eom_system *s, const double *x0, const double *d,
+                           double *out)
+{
+    double x[2 * N], xd[2 * N];
+    consistent(s, x0, d[0], d[1], d[2], d[3], x);
+    CHECK_INT(eom_rhs(s, 0.0, x, xd), EOM_OK);
+    out[0] = xd[N + LEAN];
+    out[1] = xd[N + STEER];
+}
+
+static void linearized(eom_system *s, int kv, int kg)
+{
+    static const double speeds[] = {0.0, 2.0, 5.0, 8.0};
+    const double h = 1e-6, g = 9.81;
+    const double det = Mb[0] * Mb[3] - Mb[1] * Mb[2];
+    const double Mi[4] = {Mb[3] / det, -Mb[1] / det, -Mb[2] / det,
+                          Mb[0] / det};
+    double worst = 0.0;
+    int iv, i, j, k;
+    for (iv = 0; iv < 4; iv++) {
+        const double v = speeds[iv];
+        double x0[2 * N], xd[2 * N], J[2][4];
+        CHECK_INT(eom_set_param(s, kv, v), EOM_OK);
+        CHECK_INT(eom_set_param(s, kg, g), EOM_OK);
+        CHECK_INT(eom_initial_state(s, x0), EOM_OK);
+        CHECK_NEAR(x0[N + X], v, 1e-15);
+        CHECK_NEAR(x0[N + THR], v / 0.3, 1e-15);
+        CHECK_NEAR(x0[N + THF], v / 0.35, 1e-15);
+        /* upright straight running is steady */
+        x0[LEAN] = 0.0;
+        CHECK_INT(eom_rhs(s, 0.0, x0, xd), EOM_OK);
+        for (k = N; k < 2 * N; k++)
+            CHECK(fabs(xd[k]) <= 1e-12);
+        for (k = 0; k < 4; k++) {
+            double d[4] = {0, 0, 0, 0}, p[2], q[2];
+            d[k] = h;
+            lean_steer_acc(s, x0, d, p);
+            d[k] = -h;
+            lean_steer_acc(s, x0, d, q);
+            for (i = 0; i < 2; i++)
+                J[i][k] = (p[i] - q[i]) / (2.0 * h);
+        }
+        for (i = 0; i < 2; i++)
+            for (j = 0; j < 2; j++) {
+                double kq = -(Mi[2 * i] * (g * K0b[j] + v * v * K2b[j]) +
+                              Mi[2 * i + 1] *
+                                  (g * K0b[2 + j] + v * v * K2b[2 + j]));
+                double cq = -(Mi[2 * i] * v * C1b[j] +
+                              Mi[2 * i + 1] * v * C1b[2 + j]);
+                worst = fmax(worst, fabs(J[i][j] - kq) / fmax(1.0, fabs(kq)));
+                worst = fmax(worst, fabs(J[i][2 + j] - cq) /
+                                        fmax(1.0, fabs(cq)));
+            }
+    }
+    printf("bicycle: lean and steer accelerations against the benchmark's "
+           "M, C1, K0, K2 at 0, 2, 5, 8 m/s: largest relative difference "
+           "%.2g\n", worst);
+    CHECK(worst <= 1e-7);
+}
+
+typedef struct run_stats {
+    double dE, res, lean_end, lean_max;
+} run_stats;
+
+static run_stats ride(eom_system *s, int kv, double v)
+{
+    eom_integ *it = NULL;
+    eom_opts o;
+    eom_energy e0, e;
+    run_stats st;
+    double x[2 * N], x0[2 * N], phi[5], phid[5], t, W = 0.0;
+    int k;
+    memset(&st, 0, sizeof st);
+    CHECK_INT(eom_set_param(s, kv, v), EOM_OK);
+    CHECK_INT(eom_initial_state(s, x0), EOM_OK);
+    /* leaning 0.01 rad, on the constraints */
+    consistent(s, x0, 0.01, 0.0, 0.0, 0.0, x);
+    eom_opts_default(&o);
+    o.method = EOM_ERK;
+    o.rtol = 1e-12;
+    o.atol = 1e-12;
+    if (eom_integ_new(&it, s, &o, 0.0, x) != EOM_OK) {
+        CHECK_FAIL_("bicycle at %g m/s: %s", v, eom_integ_errmsg(it));
+        eom_integ_free(&it);
+        return st;
+    }
+    CHECK_INT(eom_energy_at(s, 0.0, x, &e0), EOM_OK);
+    for (t = 0.1; t <= 10.0 + 1e-9; t += 0.1) {
+        if (eom_integ_advance(it, t, x, &W) != EOM_OK) {
+            CHECK_FAIL_("bicycle at %g m/s: %s", v, eom_integ_errmsg(it));
+            break;
+        }
+        CHECK_INT(eom_energy_at(s, t, x, &e), EOM_OK);
+        st.dE = fmax(st.dE, fabs(e.E + W - e0.E) / fabs(e0.E));
+        CHECK_INT(eom_residuals(s, x, phi, phid), EOM_OK);
+        for (k = 0; k < 5; k++)
+            st.res = fmax(st.res, fmax(fabs(phi[k]), fabs(phid[k])));
+        st.lean_max = fmax(st.lean_max, fabs(x[LEAN]));
+        if (t > 9.0)
+            st.lean_end = fmax(st.lean_end, fabs(x[LEAN]));
+        if (st.lean_max > 1.0) /* fallen: the rider is on the ground */
+            break;
+    }
+    eom_integ_free(&it);
+    printf("bicycle at %g m/s, released leaning 0.01 rad: largest lean %.3g "
+           "rad (in the last second %.3g rad; t = %.1f s), E + W relative "
+           "drift %.2g, constraint residual %.2g\n", v, st.lean_max,
+           st.lean_end, t, st.dE, st.res);
+    return st;
+}
+
+static void bicycle(const char *dir)
+{
+    char path[1024], err[2048];
+    eom_model *m = NULL;
+    eom_system *s = NULL;
+    run_stats st;
+    int kv, kg;
+    snprintf(path, sizeof path, "%s/whipple-bicycle.eom", dir);
+    if (eom_model_from_file(&m, path, err, sizeof err) != EOM_OK ||
+        eom_system_new(&s, m, err, sizeof err) != EOM_OK) {
+        CHECK_FAIL_("%s", err);
+        eom_model_free(&m);
+        return;
+    }
+    eom_model_free(&m);
+    CHECK_INT(eom_system_ncoords(s), N);
+    CHECK_INT(eom_system_nconstraints(s), 5);
+    kv = eom_param_index(s, "v");
+    kg = eom_param_index(s, "g");
+    CHECK(kv >= 0 && kg >= 0);
+    linearized(s, kv, kg);
+    st = ride(s, kv, 4.6);
+    CHECK(st.lean_end < 1e-3); /* recovered */
+    CHECK(st.dE <= 1e-10);
+    CHECK(st.res <= 1e-12);
+    st = ride(s, kv, 3.0);
+    CHECK(st.lean_max > 1.0); /* fell */
+    CHECK(st.dE <= 1e-10);
+    CHECK(st.res <= 1e-12);
+    eom_system_free(&s);
+}
+
+/* ---- eom_model_set_initial from C -------------------------------------- */
+
+static int c_T(eom_ctx *c, void *user, tp_val *out)
+{
+    (void)user;
+    *out = tp_mulc(eom_rec(c), tp_sqr(eom_rec(c), eom_qd(c, 0)), 0.5);
+    return 0;
+}
+
+static int c_x0(eom_ctx *c, void *user, tp_val *out)
+{
+    tp_rec *r = eom_rec(c);
+    tp_val a = eom_param(c, "a");
+    out[0] = tp_mulc(r, a, 2.0);
+    out[1] = user ? eom_q(c, 0) : tp_sin(r, a);
+    return 0;
+}
+
+static void initial_from_c(void)
+{
+    eom_model *m = NULL;
+    eom_system *s = NULL;
+    char err[1024];
+    double x[2];
+    int bad;
+    for (bad = 0; bad < 2; bad++) {
+        eom_model_new(&m);
+        eom_model_add_coord(m, "q", NULL, 5.0, 6.0);
+        eom_model_add_param(m, "a", NULL, 0.5, NULL);
+        eom_model_set_kinetic(m, c_T, NULL);
+        CHECK_INT(eom_model_set_initial(m, c_x0, bad ? &bad : NULL), EOM_OK);
+        if (!bad) {
+            CHECK_INT(eom_system_new(&s, m, err, sizeof err), EOM_OK);
+            CHECK_INT(eom_initial_state(s, x), EOM_OK);
+            CHECK_NEAR(x[0], 1.0, 1e-15);
+            CHECK_NEAR(x[1], sin(0.5), 1e-15);
+            CHECK_INT(eom_set_param(s, 0, 2.0), EOM_OK);
+            CHECK_INT(eom_initial_state(s, x), EOM_OK);
+            CHECK_NEAR(x[0], 4.0, 1e-15);
+            CHECK_NEAR(x[1], sin(2.0), 1e-15);
+        } else {
+            CHECK(eom_system_new(&s, m, err, sizeof err) != EOM_OK);
+            CHECK(strstr(err, "initial state") != NULL);
+        }
+        eom_system_free(&s);
+        eom_model_free(&m);
+    }
+    CHECK_INT(eom_model_set_initial(NULL, c_x0, NULL), EOM_ERR_NULL);
+}
+
+int main(int argc, char **argv)
+{
+    bicycle(argc > 1 ? argv[1] : "models");
+    initial_from_c();
+    CHECK_DONE();
+}
