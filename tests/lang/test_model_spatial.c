@@ -16,6 +16,11 @@
  *    the angular velocity): released upright it rolls straight on at
  *    x = r phi_dot t, and released leaning its energy stays constant
  *    (rolling does no work) and the constraints hold;
+ *  - models/spherical-double-pendulum.eom (two rods on ball joints):
+ *    the angular momentum about the vertical (a probe) and the energy
+ *    constant to 1e-10 over 10 s, and swinging in a plane it is the
+ *    planar compound double pendulum written with hand-written
+ *    velocities (the same accelerations to 1e-12);
  *  - the vector algebra through probes (cross, dot, norm, transpose,
  *    rotations about an axis and from a quaternion, angular velocity in
  *    the body and in space) against the same formulas written in C.
@@ -504,6 +509,95 @@ static void rolling_disk(void)
     eom_system_free(&s);
 }
 
+/* ---- the spherical double pendulum ------------------------------------ */
+
+static const char *const planar_rods =
+    "param m = 1    [kg]\n"
+    "param l = 1    [m]\n"
+    "param r = 0.05 [m]\n"
+    "param g = 9.81 [m/s^2]\n"
+    "coord b1 = 0.6 [rad]\n"
+    "coord b2 = 0.2 [rad]\n"
+    "vx1 = -l/2*cos(b1)*b1_dot\n"
+    "vz1 = l/2*sin(b1)*b1_dot\n"
+    "vx2 = -l*cos(b1)*b1_dot - l/2*cos(b2)*b2_dot\n"
+    "vz2 = l*sin(b1)*b1_dot + l/2*sin(b2)*b2_dot\n"
+    "Iyy = m*(3*r^2 + l^2)/12\n"
+    "T = 1/2*m*(vx1^2 + vz1^2 + vx2^2 + vz2^2) + "
+    "1/2*Iyy*(b1_dot^2 + b2_dot^2)\n"
+    "V = m*g*(-l/2*cos(b1) - l*cos(b1) - l/2*cos(b2))\n";
+
+typedef struct sdp_track {
+    eom_system *s;
+    double H0, E0, dH, dE;
+} sdp_track;
+
+static void track_sdp(const double *x, void *u)
+{
+    sdp_track *d = u;
+    double p[8];
+    eom_energy e;
+    if (eom_probes_at(d->s, x, p) == EOM_OK)
+        d->dH = fmax(d->dH, fabs(p[0] - d->H0) / fabs(d->H0));
+    if (eom_energy_at(d->s, 0.0, x, &e) == EOM_OK)
+        d->dE = fmax(d->dE, fabs(e.E - d->E0) / fabs(d->E0));
+}
+
+static void spherical_pendulum(void)
+{
+    char *text = read_text("spherical-double-pendulum.eom");
+    eom_system *s = build(text, "spherical-double-pendulum.eom", 0, NULL);
+    eom_system *pl = build(planar_rods, "planar rods", 0, NULL);
+    double x[12], xd[12], y[4], yd[4], p[8], worst = 0.0;
+    sdp_track d;
+    eom_energy e;
+    rng r = rng_seed(99u);
+    int k, j;
+    free(text);
+    if (!s || !pl) {
+        eom_system_free(&s);
+        eom_system_free(&pl);
+        return;
+    }
+    /* in the x-z plane: a = c = 0 and no rate of them */
+    for (k = 0; k < 20; k++) {
+        memset(x, 0, sizeof x);
+        x[1] = rng_range(&r, -1.2, 1.2);
+        x[4] = rng_range(&r, -1.2, 1.2);
+        x[7] = rng_range(&r, -2.0, 2.0);
+        x[10] = rng_range(&r, -2.0, 2.0);
+        y[0] = x[1];
+        y[1] = x[4];
+        y[2] = x[7];
+        y[3] = x[10];
+        CHECK_INT(eom_rhs(s, 0.0, x, xd), EOM_OK);
+        CHECK_INT(eom_rhs(pl, 0.0, y, yd), EOM_OK);
+        worst = fmax(worst, fabs(xd[7] - yd[2]) / fmax(1.0, fabs(yd[2])));
+        worst = fmax(worst, fabs(xd[10] - yd[3]) / fmax(1.0, fabs(yd[3])));
+        for (j = 0; j < 6; j++)
+            if (j != 1 && j != 4)
+                worst = fmax(worst, fabs(xd[6 + j]));
+    }
+    printf("spherical double pendulum in a plane against the planar one: "
+           "%.2g\n", worst);
+    CHECK(worst <= 1e-12);
+    /* in space: H_z and E */
+    CHECK_INT(eom_initial_state(s, x), EOM_OK);
+    CHECK_INT(eom_probes_at(s, x, p), EOM_OK);
+    CHECK_INT(eom_energy_at(s, 0.0, x, &e), EOM_OK);
+    memset(&d, 0, sizeof d);
+    d.s = s;
+    d.H0 = p[0];
+    d.E0 = e.E;
+    run(s, x, 10.0, 0.1, track_sdp, &d);
+    printf("spherical double pendulum, 10 s: relative drift of H_z %.2g, "
+           "of E %.2g\n", d.dH, d.dE);
+    CHECK(d.dH <= 1e-10);
+    CHECK(d.dE <= 1e-10);
+    eom_system_free(&s);
+    eom_system_free(&pl);
+}
+
 /* ---- vector algebra through probes ------------------------------------- */
 
 static const char *const algebra =
@@ -623,6 +717,7 @@ int main(int argc, char **argv)
     chain_ops();
     heavy_top();
     rolling_disk();
+    spherical_pendulum();
     vector_algebra();
     CHECK_DONE();
 }
