@@ -93,10 +93,12 @@ static const err_case cases[] = {
      "units off\nparam m = 1\ncoord x = 0\ncoord y = 1\n"
      "T = 1/2*m*(x_dot^2 + y_dot^2)\nconstraint c = x*y_dot\n",
      6, 18, "the rate y_dot cannot appear in the constraint c", NULL},
-    {"parameter in an initial value",
-     "param m = 1 [kg]\nparam r0 = 1 [m]\ncoord x = r0 [m]\n"
-     "T = 1/2*m*x_dot^2\n", 3, 11, "the parameter r0 cannot be used here",
-     NULL},
+    /* a coordinate's initial value may use a parameter; a parameter's
+     * default may not (it would not follow the other's changes) */
+    {"parameter in a parameter's default",
+     "param m = 1 [kg]\nparam r0 = 1 [m]\nparam r1 = 2*r0 [m]\n"
+     "coord x = r0 [m]\nT = 1/2*m*x_dot^2\n", 3, 14,
+     "the parameter r0 cannot be used here", NULL},
     {"comparison of a coordinate", HEAD "T = 1/2*m*x_dot^2*if(x > 0, 1, 2)\n",
      3, 24, "a comparison must be known when the file is read",
      "not coordinates or parameters"},
@@ -186,6 +188,14 @@ static const err_case cases[] = {
     {"a matrix constraint",
      HEAD "T = 1/2*m*x_dot^2\nconstraint c = diag(x, x, x)\n", 4, 12,
      "the constraint c is a matrix", NULL},
+    {"a quaternion that is not of unit length at the start",
+     "units off\nparam m = 1\ncoord a = 0.3\n"
+     "Rq = quat(cos(a/2), sin(a/2), 0, 0.1)\nT = 1/2*m*a_dot^2 + 0*Rq.xx\n",
+     4, 6, "the quaternion of quat() has length 1.00498756211", "= 1"},
+    {"a constant quaternion not of unit length",
+     "units off\nparam m = 1\ncoord a = 0.3\nT = 1/2*m*a_dot^2\n"
+     "probe z = quat(2, 0, 0, 0).zz\n",
+     5, 11, "the quaternion of quat() has length 2, not 1", NULL},
     {"der() in a holonomic constraint",
      HEAD "T = 1/2*m*x_dot^2\nconstraint c = der(x)\n", 4, 20,
      "der() cannot appear in the constraint c", "velocity constraint"},

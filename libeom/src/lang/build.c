@@ -50,6 +50,7 @@ static void inst_free(void *v)
     free(in->arena);
     free(in->pmemo);
     free(in->pdefault);
+    free(in->quat_tok);
     free(in->pmemo_epoch);
     free(in->cbs);
     lang_prog_release(in->p);
@@ -573,7 +574,10 @@ static int check_body(tp_rec *r, void *user)
         int sk = cb->sym >= 0 ? in->p->syms[cb->sym].kind : -1;
         switch (a->role) {
         case EOM_ROLE_STATE:
-            if (kind == ST_R)
+            /* R is checked here; T, V and L (checked on their tapes) only
+             * for the lengths of their quaternions */
+            if (kind == ST_R || (in->quat_check && kind >= 0 &&
+                                 kind != ST_FORCE))
                 rc = cb_energy(a->c, cb, &one);
             else if (sk == S_PROBE)
                 rc = cb_probe(a->c, cb, &one);
@@ -598,6 +602,26 @@ static int check_body(tp_rec *r, void *user)
 
 /* Run every callback but T, V and L once on the double evaluator at x
  * (2n + 1 values: q, qd, t). */
+/* A rotation from a quaternion that is not of unit length at the start
+ * is an error where quat() is written: its components are mistyped, or
+ * not those of a rotation (quat() divides by the length, so the motion
+ * would go on quietly with another rotation than the one meant). */
+static void check_quaternions(lang_inst *in, tp_rec *r)
+{
+    int k;
+    for (k = 0; k < in->nquat && !in->failed; k++) {
+        double n2;
+        if (tp_rec_output_value(r, k, &n2) != TP_OK)
+            continue;
+        if (!(fabs(n2 - 1.0) <= 1e-9))
+            lang_fail(in, in->quat_tok[k],
+                      "a rotation's quaternion (w, x, y, z) has w^2 + x^2 "
+                      "+ y^2 + z^2 = 1, as cos(a/2), sin(a/2)*axis does",
+                      "the quaternion of quat() has length %.17g at the "
+                      "start, not 1", sqrt(n2));
+    }
+}
+
 static int run_others(lang_inst *in, const eom_model *m, const double *x)
 {
     static const int roles[4] = {EOM_ROLE_STATE, EOM_ROLE_FORCE,
@@ -631,9 +655,11 @@ static int run_others(lang_inst *in, const eom_model *m, const double *x)
         a.in = in;
         a.role = roles[k];
         a.out = out;
+        in->nquat = 0;
         if (tp_rec_run(r, x, check_body, &a) != TP_OK && !in->failed)
             lang_fail(in, 0, NULL, "%s",
                       c.msg[0] ? c.msg : tp_rec_errmsg(r));
+        check_quaternions(in, r);
     }
     free(out);
     tp_rec_free(&r);
@@ -739,7 +765,7 @@ int lang_build(lang_prog *p, const double *setting, eom_model **out,
     lang_inst *in = calloc(1, sizeof *in);
     eom_model *m = NULL;
     double *x0 = NULL;
-    int rc;
+    int rc, k;
     *out = NULL;
     if (!in || eom_model_new(&m) != EOM_OK) {
         free(in);
@@ -760,6 +786,9 @@ int lang_build(lang_prog *p, const double *setting, eom_model **out,
     }
     memcpy(in->setting, setting, (size_t)p->nsyms * sizeof *setting);
     rc = declare(in, m) == 0 && add_callbacks(in, m) == 0 ? 0 : -1;
+    for (k = 0; k < p->nnodes && rc == 0 && !in->quat_check; k++)
+        in->quat_check = p->nodes[k].kind == N_CALL &&
+                         p->nodes[k].op == F_QUAT;
     if (rc == 0) {
         const int n = eom_model_ncoords(m);
         /* (q, qd, t): the forces' recording reads the time too */
@@ -768,7 +797,6 @@ int lang_build(lang_prog *p, const double *setting, eom_model **out,
             lang_fail(in, 0, NULL, "out of memory");
             rc = -1;
         } else {
-            int k;
             for (k = 0; k < n; k++) {
                 x0[k] = m->coords[k].v0;
                 x0[n + k] = m->coords[k].v1;
@@ -777,6 +805,7 @@ int lang_build(lang_prog *p, const double *setting, eom_model **out,
             rc = check_mass(in, m, x0) == 0 && run_others(in, m, x0) == 0
                      ? 0
                      : -1;
+            in->quat_check = 0;
         }
     }
     free(x0);

@@ -358,6 +358,10 @@ typedef struct lang_inst {
                                coordinates' initial values are read (they
                                may use parameters), else NULL */
     int pdefault_on;        /* reading a coordinate's initial value */
+    int quat_check;         /* the checks' run at the start (build.c):
+                               each quat() outputs its squared length */
+    int32_t *quat_tok;      /* [nquat] where each of those is written */
+    int nquat, cap_quat;
     int init_params;        /* an initial value used a parameter: the
                                model records its initial state */
     lval *pmemo;            /* [nparams] parameter values this recording */

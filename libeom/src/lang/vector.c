@@ -5,6 +5,8 @@
  * values with derivatives (tangent.c), so der() of any of them follows.
  * libtape learns nothing new. Matrices are row-major: x[3*i + j] is row
  * i, column j. Shapes were checked when the file was read (shape.c). */
+#include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "lang.h"
@@ -144,6 +146,22 @@ static void quaternion(ops *o, const ldual *q, ldual *R)
     ldual ww = mul(o, w, w), xx = mul(o, x, x), yy = mul(o, y, y),
           zz = mul(o, z, z);
     ldual n2 = add(o, add(o, ww, xx), add(o, yy, zz));
+    lang_inst *in = o->in;
+    if (o->rc == 0 && in->quat_check && in->r && !n2.v.k &&
+        lang_grow((void **)&in->quat_tok, &in->cap_quat, in->nquat + 1,
+                  sizeof *in->quat_tok, 1 << 20) == 0) {
+        char name[32];
+        snprintf(name, sizeof name, "quat%d", in->nquat + 1);
+        if (tp_output(in->r, name, n2.v.v) >= 0)
+            in->quat_tok[in->nquat++] = o->tok;
+    } else if (o->rc == 0 && n2.v.k && !(fabs(n2.v.c - 1.0) <= 1e-9)) {
+        lang_fail(in, o->tok,
+                  "a rotation's quaternion (w, x, y, z) has w^2 + x^2 + "
+                  "y^2 + z^2 = 1, as cos(a/2), sin(a/2)*axis does",
+                  "the quaternion of quat() has length %.17g, not 1",
+                  sqrt(n2.v.c));
+        o->rc = -1;
+    }
     ldual two = dvd(o, dnum(2.0), n2);
     ldual xy = mul(o, x, y), xz = mul(o, x, z), yz = mul(o, y, z),
           wx = mul(o, w, x), wy = mul(o, w, y), wz = mul(o, w, z);
