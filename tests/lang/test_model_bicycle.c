@@ -13,6 +13,11 @@
  *    from the ground contact, the dependent rates from the rolling
  *    constraints), against -M^-1 (g K0 + v^2 K2) and -M^-1 v C1, at
  *    0, 2, 5 and 8 m/s, to the differences' own accuracy (1e-7).
+ *  - The characteristic polynomial of that 4 x 4 system against the
+ *    published matrices' at 0 .. 10 m/s (the same eigenvalues), and the
+ *    weave and capsize speeds where it loses a root's negative real part
+ *    (Routh-Hurwitz, bisection) against the published 4.29238253634111
+ *    and 6.02426201538837 m/s to 1e-10.
  *  - The non-linear bicycle released with a small lean at 4.6 m/s (in
  *    the self-stable range 4.29 .. 6.02 m/s) recovers upright; at 3 m/s
  *    it falls; the rolling constraints held to 1e-12 and E + W constant
@@ -168,6 +173,143 @@ static void linearized(eom_system *s, int kv, int kg)
     CHECK(worst <= 1e-7);
 }
 
+/* The model's 4 x 4 linearization in (lean, steer, lean rate, steer
+ * rate) at speed v: central differences of the lean and steer
+ * accelerations (step h, relative to nothing: the state is 0 there). */
+static void model_A(eom_system *s, int kv, double v, double A[16])
+{
+    const double h = 1e-6;
+    double x0[2 * N];
+    int i, k;
+    eom_set_param(s, kv, v);
+    eom_initial_state(s, x0);
+    memset(A, 0, 16 * sizeof *A);
+    A[0 * 4 + 2] = 1.0;
+    A[1 * 4 + 3] = 1.0;
+    for (k = 0; k < 4; k++) {
+        double d[4] = {0, 0, 0, 0}, p[2], q[2];
+        d[k] = h;
+        lean_steer_acc(s, x0, d, p);
+        d[k] = -h;
+        lean_steer_acc(s, x0, d, q);
+        for (i = 0; i < 2; i++)
+            A[(2 + i) * 4 + k] = (p[i] - q[i]) / (2.0 * h);
+    }
+}
+
+/* The same from the published matrices: [0 I; -M^-1 K, -M^-1 v C1]. */
+static void bench_A(double v, double A[16])
+{
+    const double g = 9.81, det = Mb[0] * Mb[3] - Mb[1] * Mb[2];
+    const double Mi[4] = {Mb[3] / det, -Mb[1] / det, -Mb[2] / det,
+                          Mb[0] / det};
+    int i, j;
+    memset(A, 0, 16 * sizeof *A);
+    A[2] = 1.0;
+    A[7] = 1.0;
+    for (i = 0; i < 2; i++)
+        for (j = 0; j < 2; j++) {
+            A[(2 + i) * 4 + j] =
+                -(Mi[2 * i] * (g * K0b[j] + v * v * K2b[j]) +
+                  Mi[2 * i + 1] * (g * K0b[2 + j] + v * v * K2b[2 + j]));
+            A[(2 + i) * 4 + 2 + j] = -(Mi[2 * i] * v * C1b[j] +
+                                       Mi[2 * i + 1] * v * C1b[2 + j]);
+        }
+}
+
+/* Coefficients c[0..4] of det(l I - A) = l^4 + c3 l^3 + ... + c0 (c[4] =
+ * 1), by Faddeev-LeVerrier. */
+static void charpoly(const double A[16], double c[5])
+{
+    double Mk[16], AM[16];
+    int k, i, j, l;
+    memset(Mk, 0, sizeof Mk);
+    c[4] = 1.0;
+    for (k = 1; k <= 4; k++) {
+        double tr = 0.0;
+        /* M_k = A M_{k-1} + c_{n-k+1} I, M_0 = 0 */
+        for (i = 0; i < 4; i++)
+            for (j = 0; j < 4; j++) {
+                double t = 0.0;
+                for (l = 0; l < 4; l++)
+                    t += A[4 * i + l] * Mk[4 * l + j];
+                AM[4 * i + j] = t;
+            }
+        for (i = 0; i < 4; i++)
+            for (j = 0; j < 4; j++)
+                Mk[4 * i + j] = AM[4 * i + j] + (i == j ? c[5 - k] : 0.0);
+        for (i = 0; i < 4; i++)
+            for (l = 0; l < 4; l++)
+                tr += A[4 * i + l] * Mk[4 * l + i];
+        c[4 - k] = -tr / k;
+    }
+}
+
+/* The two stability boundaries as functions of v, from the
+ * characteristic polynomial (Routh-Hurwitz for a quartic): a real root
+ * crosses 0 where c0 = 0 (capsize), a complex pair crosses the
+ * imaginary axis where c3 c2 c1 - c1^2 - c3^2 c0 = 0 (weave). */
+static double boundary(eom_system *s, int kv, double v, int weave)
+{
+    double A[16], c[5];
+    if (s)
+        model_A(s, kv, v, A);
+    else
+        bench_A(v, A);
+    charpoly(A, c);
+    return weave ? c[3] * c[2] * c[1] - c[1] * c[1] - c[3] * c[3] * c[0]
+                 : c[0];
+}
+
+static double crossing(eom_system *s, int kv, double lo, double hi,
+                       int weave)
+{
+    double flo = boundary(s, kv, lo, weave);
+    int k;
+    for (k = 0; k < 60 && hi - lo > 1e-13; k++) {
+        double mid = 0.5 * (lo + hi), fm = boundary(s, kv, mid, weave);
+        if ((fm < 0) == (flo < 0)) {
+            lo = mid;
+            flo = fm;
+        } else {
+            hi = mid;
+        }
+    }
+    return 0.5 * (lo + hi);
+}
+
+/* The characteristic polynomials of the model and of the published
+ * matrices at 0 .. 10 m/s (the same polynomial: the same eigenvalues),
+ * and the weave and capsize speeds against the published ones. */
+static void stability(eom_system *s, int kv)
+{
+    double worst = 0.0, vw, vc, vw_b, vc_b, v;
+    int k;
+    for (v = 0.0; v <= 10.0 + 1e-9; v += 0.5) {
+        double A[16], B[16], ca[5], cb[5];
+        model_A(s, kv, v, A);
+        bench_A(v, B);
+        charpoly(A, ca);
+        charpoly(B, cb);
+        for (k = 0; k < 4; k++)
+            worst = fmax(worst, fabs(ca[k] - cb[k]) / fmax(1.0, fabs(cb[k])));
+    }
+    vw = crossing(s, kv, 3.0, 5.0, 1);
+    vc = crossing(s, kv, 5.0, 7.0, 0);
+    vw_b = crossing(NULL, kv, 3.0, 5.0, 1);
+    vc_b = crossing(NULL, kv, 5.0, 7.0, 0);
+    printf("bicycle: characteristic polynomials at 0 .. 10 m/s against the "
+           "published matrices' %.2g; weave speed %.14g (published "
+           "4.29238253634111, from the published matrices %.14g), capsize "
+           "speed %.14g (published 6.02426201538837, %.14g)\n", worst, vw,
+           vw_b, vc, vc_b);
+    CHECK(worst <= 1e-9);
+    CHECK_NEAR(vw_b, 4.29238253634111, 1e-12);
+    CHECK_NEAR(vc_b, 6.02426201538837, 1e-12);
+    CHECK_NEAR(vw, 4.29238253634111, 1e-10);
+    CHECK_NEAR(vc, 6.02426201538837, 1e-10);
+}
+
 typedef struct run_stats {
     double dE, res, lean_end, lean_max;
 } run_stats;
@@ -240,6 +382,7 @@ static void bicycle(const char *dir)
     kg = eom_param_index(s, "g");
     CHECK(kv >= 0 && kg >= 0);
     linearized(s, kv, kg);
+    stability(s, kv);
     st = ride(s, kv, 4.6);
     CHECK(st.lean_end < 1e-3); /* recovered */
     CHECK(st.dE <= 1e-10);
