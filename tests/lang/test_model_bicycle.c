@@ -8,13 +8,16 @@
  *  - The lean and steer equations about upright straight running,
  *    M qdd + v C1 qd + (g K0 + v^2 K2) q = 0 with the benchmark's
  *    published matrices (eq. 5.4, 14 digits): the model's accelerations
- *    of lean and steer, from central differences in lean, steer and
- *    their rates at states made consistent with the constraints (pitch
- *    from the ground contact, the dependent rates from the rolling
- *    constraints), against -M^-1 (g K0 + v^2 K2) and -M^-1 v C1, at
- *    0, 2, 5 and 8 m/s, to the differences' own accuracy (1e-7).
- *  - The characteristic polynomial of that 4 x 4 system against the
- *    published matrices' at 0 .. 10 m/s (the same eigenvalues), and the
+ *    of lean and steer, differentiated in lean, steer and their rates at
+ *    states made consistent with the constraints (pitch from the ground
+ *    contact, the dependent rates from the rolling constraints), by
+ *    central differences at two steps combined so that their h^2 errors
+ *    cancel (their error is then below the published digits), against
+ *    -M^-1 (g K0 + v^2 K2) and -M^-1 v C1 at 0, 2, 5 and 8 m/s; and M,
+ *    K0, K2 and C1 themselves (M from the mass matrix and the rolling
+ *    constraints), each to 1e-12.
+ *  - The eigenvalues of that 4 x 4 system against the published
+ *    matrices' at 0 .. 10 m/s to 1e-12, and the
  *    weave and capsize speeds where it loses a root's negative real part
  *    (Routh-Hurwitz, bisection) against the published 4.29238253634111
  *    and 6.02426201538837 m/s to 1e-10.
@@ -34,7 +37,17 @@
 #include "check.h"
 #include "eom/model_file.h"
 
+/* LAPACK's general eigenvalue solver */
+extern void dgeev_(const char *jobvl, const char *jobvr, const int *n,
+                   double *a, const int *lda, double *wr, double *wi,
+                   double *vl, const int *ldvl, double *vr, const int *ldvr,
+                   double *work, const int *lwork, int *info);
+
 enum { X, Y, YAW, LEAN, PITCH, STEER, THR, THF, N = 8 };
+
+#ifndef H_STEP
+#define H_STEP 1e-4
+#endif
 
 static const double Mb[4] = {80.81722, 2.31941332208709, 2.31941332208709,
                              0.29784188199686};
@@ -123,77 +136,35 @@ static void lean_steer_acc(eom_system *s, const double *x0, const double *d,
     out[1] = xd[N + STEER];
 }
 
-static void linearized(eom_system *s, int kv, int kg)
-{
-    static const double speeds[] = {0.0, 2.0, 5.0, 8.0};
-    const double h = 1e-6, g = 9.81;
-    const double det = Mb[0] * Mb[3] - Mb[1] * Mb[2];
-    const double Mi[4] = {Mb[3] / det, -Mb[1] / det, -Mb[2] / det,
-                          Mb[0] / det};
-    double worst = 0.0;
-    int iv, i, j, k;
-    for (iv = 0; iv < 4; iv++) {
-        const double v = speeds[iv];
-        double x0[2 * N], xd[2 * N], J[2][4];
-        CHECK_INT(eom_set_param(s, kv, v), EOM_OK);
-        CHECK_INT(eom_set_param(s, kg, g), EOM_OK);
-        CHECK_INT(eom_initial_state(s, x0), EOM_OK);
-        CHECK_NEAR(x0[N + X], v, 1e-15);
-        CHECK_NEAR(x0[N + THR], v / 0.3, 1e-15);
-        CHECK_NEAR(x0[N + THF], v / 0.35, 1e-15);
-        /* upright straight running is steady */
-        x0[LEAN] = 0.0;
-        CHECK_INT(eom_rhs(s, 0.0, x0, xd), EOM_OK);
-        for (k = N; k < 2 * N; k++)
-            CHECK(fabs(xd[k]) <= 1e-12);
-        for (k = 0; k < 4; k++) {
-            double d[4] = {0, 0, 0, 0}, p[2], q[2];
-            d[k] = h;
-            lean_steer_acc(s, x0, d, p);
-            d[k] = -h;
-            lean_steer_acc(s, x0, d, q);
-            for (i = 0; i < 2; i++)
-                J[i][k] = (p[i] - q[i]) / (2.0 * h);
-        }
-        for (i = 0; i < 2; i++)
-            for (j = 0; j < 2; j++) {
-                double kq = -(Mi[2 * i] * (g * K0b[j] + v * v * K2b[j]) +
-                              Mi[2 * i + 1] *
-                                  (g * K0b[2 + j] + v * v * K2b[2 + j]));
-                double cq = -(Mi[2 * i] * v * C1b[j] +
-                              Mi[2 * i + 1] * v * C1b[2 + j]);
-                worst = fmax(worst, fabs(J[i][j] - kq) / fmax(1.0, fabs(kq)));
-                worst = fmax(worst, fabs(J[i][2 + j] - cq) /
-                                        fmax(1.0, fabs(cq)));
-            }
-    }
-    printf("bicycle: lean and steer accelerations against the benchmark's "
-           "M, C1, K0, K2 at 0, 2, 5, 8 m/s: largest relative difference "
-           "%.2g\n", worst);
-    CHECK(worst <= 1e-7);
-}
 
 /* The model's 4 x 4 linearization in (lean, steer, lean rate, steer
  * rate) at speed v: central differences of the lean and steer
  * accelerations (step h, relative to nothing: the state is 0 there). */
 static void model_A(eom_system *s, int kv, double v, double A[16])
 {
-    const double h = 1e-6;
+    const double h = H_STEP;
     double x0[2 * N];
-    int i, k;
+    int i, k, r;
     eom_set_param(s, kv, v);
     eom_initial_state(s, x0);
     memset(A, 0, 16 * sizeof *A);
     A[0 * 4 + 2] = 1.0;
     A[1 * 4 + 3] = 1.0;
     for (k = 0; k < 4; k++) {
-        double d[4] = {0, 0, 0, 0}, p[2], q[2];
-        d[k] = h;
-        lean_steer_acc(s, x0, d, p);
-        d[k] = -h;
-        lean_steer_acc(s, x0, d, q);
+        /* central differences at h and 2h, combined (Richardson) so that
+         * the h^2 error cancels: (4 D(h) - D(2h)) / 3 */
+        double D[2][2];
+        for (r = 0; r < 2; r++) {
+            double d[4] = {0, 0, 0, 0}, p[2], q[2];
+            d[k] = (r + 1) * h;
+            lean_steer_acc(s, x0, d, p);
+            d[k] = -(r + 1) * h;
+            lean_steer_acc(s, x0, d, q);
+            for (i = 0; i < 2; i++)
+                D[r][i] = (p[i] - q[i]) / (2.0 * (r + 1) * h);
+        }
         for (i = 0; i < 2; i++)
-            A[(2 + i) * 4 + k] = (p[i] - q[i]) / (2.0 * h);
+            A[(2 + i) * 4 + k] = (4.0 * D[0][i] - D[1][i]) / 3.0;
     }
 }
 
@@ -245,6 +216,86 @@ static void charpoly(const double A[16], double c[5])
     }
 }
 
+/* The start follows v and is steady; the model's 4 x 4 system against
+ * the published one at 0, 2, 5 and 8 m/s; and the benchmark's matrices
+ * themselves: M = B^T M_full B with B the rates of every coordinate per
+ * unit lean and steer rate (from the constraints, exact at the upright
+ * state), then K0, K2 and C1 from M and the 4 x 4 systems at 0 and
+ * 1 m/s. */
+static void linearized(eom_system *s, int kv, int kg)
+{
+    static const double speeds[] = {0.0, 2.0, 5.0, 8.0};
+    double worst = 0.0, worst_m = 0.0, Mf[N * N], B[2][2 * N], Mr[4],
+           A0[16], A1[16], x0[2 * N], xd[2 * N];
+    int iv, i, j, k, l;
+    for (iv = 0; iv < 4; iv++) {
+        const double v = speeds[iv];
+        double A[16], Ab[16];
+        CHECK_INT(eom_set_param(s, kv, v), EOM_OK);
+        CHECK_INT(eom_set_param(s, kg, 9.81), EOM_OK);
+        CHECK_INT(eom_initial_state(s, x0), EOM_OK);
+        CHECK_NEAR(x0[N + X], v, 1e-15);
+        CHECK_NEAR(x0[N + THR], v / 0.3, 1e-15);
+        CHECK_NEAR(x0[N + THF], v / 0.35, 1e-15);
+        /* upright straight running is steady */
+        x0[LEAN] = 0.0;
+        CHECK_INT(eom_rhs(s, 0.0, x0, xd), EOM_OK);
+        for (k = N; k < 2 * N; k++)
+            CHECK(fabs(xd[k]) <= 1e-12);
+        model_A(s, kv, v, A);
+        bench_A(v, Ab);
+        for (k = 8; k < 16; k++)
+            worst = fmax(worst, fabs(A[k] - Ab[k]) / fmax(1.0, fabs(Ab[k])));
+    }
+    printf("bicycle: lean and steer accelerations against the benchmark's "
+           "M, C1, K0, K2 at 0, 2, 5, 8 m/s: largest relative difference "
+           "%.2g\n", worst);
+    CHECK(worst <= 1e-12);
+
+    /* M, K0, K2, C1 one by one */
+    CHECK_INT(eom_set_param(s, kv, 0.0), EOM_OK);
+    CHECK_INT(eom_initial_state(s, x0), EOM_OK);
+    x0[LEAN] = 0.0;
+    for (k = 0; k < 2; k++)
+        consistent(s, x0, 0.0, 0.0, k == 0, k == 1, B[k]);
+    CHECK_INT(eom_mass_matrix(s, B[0], Mf), EOM_OK);
+    for (i = 0; i < 2; i++)
+        for (j = 0; j < 2; j++) {
+            double t = 0.0;
+            for (k = 0; k < N; k++)
+                for (l = 0; l < N; l++)
+                    t += B[i][N + k] * Mf[N * k + l] * B[j][N + l];
+            Mr[2 * i + j] = t;
+        }
+    model_A(s, kv, 0.0, A0);
+    model_A(s, kv, 1.0, A1);
+    for (i = 0; i < 2; i++)
+        for (j = 0; j < 2; j++) {
+            /* M qdd = -(g K0 + v^2 K2) q - v C1 qd: a row of M times A */
+            double k0 = 0.0, k2 = 0.0, c1 = 0.0;
+            for (k = 0; k < 2; k++) {
+                k0 -= Mr[2 * i + k] * A0[(2 + k) * 4 + j] / 9.81;
+                k2 -= Mr[2 * i + k] *
+                      (A1[(2 + k) * 4 + j] - A0[(2 + k) * 4 + j]);
+                c1 -= Mr[2 * i + k] * A1[(2 + k) * 4 + 2 + j];
+            }
+            worst_m = fmax(worst_m, fabs(Mr[2 * i + j] - Mb[2 * i + j]) /
+                                        fabs(Mb[2 * i + j]));
+            worst_m = fmax(worst_m, fabs(k0 - K0b[2 * i + j]) /
+                                        fmax(1.0, fabs(K0b[2 * i + j])));
+            worst_m = fmax(worst_m, fabs(k2 - K2b[2 * i + j]) /
+                                        fmax(1.0, fabs(K2b[2 * i + j])));
+            worst_m = fmax(worst_m, fabs(c1 - C1b[2 * i + j]) /
+                                        fmax(1.0, fabs(C1b[2 * i + j])));
+        }
+    printf("bicycle: M = [%.14g %.14g; %.14g %.14g] (the benchmark's to "
+           "%.2g); M, K0, K2 and C1 to %.2g\n", Mr[0], Mr[1], Mr[2], Mr[3],
+           fmax(fmax(fabs(Mr[0] - Mb[0]) / Mb[0], fabs(Mr[1] - Mb[1]) / Mb[1]),
+                fabs(Mr[3] - Mb[3]) / Mb[3]),
+           worst_m);
+    CHECK(worst_m <= 1e-12);
+}
+
 /* The two stability boundaries as functions of v, from the
  * characteristic polynomial (Routh-Hurwitz for a quartic): a real root
  * crosses 0 where c0 = 0 (capsize), a complex pair crosses the
@@ -278,32 +329,67 @@ static double crossing(eom_system *s, int kv, double lo, double hi,
     return 0.5 * (lo + hi);
 }
 
+/* The eigenvalues of a 4 x 4 row-major A, sorted by real part, then
+ * imaginary part. */
+static void eig4(const double A[16], double re[4], double im[4])
+{
+    double a[16], work[64], dummy[1];
+    const int n = 4, one = 1, lw = 64;
+    int info = 0, i, j;
+    for (i = 0; i < 4; i++) /* column-major */
+        for (j = 0; j < 4; j++)
+            a[4 * j + i] = A[4 * i + j];
+    dgeev_("N", "N", &n, a, &n, re, im, dummy, &one, dummy, &one, work, &lw,
+           &info);
+    CHECK_INT(info, 0);
+    for (i = 1; i < 4; i++)
+        for (j = i; j > 0 && (re[j] < re[j - 1] ||
+                              (re[j] == re[j - 1] && im[j] < im[j - 1]));
+             j--) {
+            double t = re[j];
+            re[j] = re[j - 1];
+            re[j - 1] = t;
+            t = im[j];
+            im[j] = im[j - 1];
+            im[j - 1] = t;
+        }
+}
+
 /* The characteristic polynomials of the model and of the published
  * matrices at 0 .. 10 m/s (the same polynomial: the same eigenvalues),
  * and the weave and capsize speeds against the published ones. */
 static void stability(eom_system *s, int kv)
 {
-    double worst = 0.0, vw, vc, vw_b, vc_b, v;
+    double worst = 0.0, worst_eig = 0.0, vw, vc, vw_b, vc_b, v;
     int k;
     for (v = 0.0; v <= 10.0 + 1e-9; v += 0.5) {
         double A[16], B[16], ca[5], cb[5];
         model_A(s, kv, v, A);
         bench_A(v, B);
+        double ra[4], ia[4], rb[4], ib[4];
         charpoly(A, ca);
         charpoly(B, cb);
         for (k = 0; k < 4; k++)
             worst = fmax(worst, fabs(ca[k] - cb[k]) / fmax(1.0, fabs(cb[k])));
+        eig4(A, ra, ia);
+        eig4(B, rb, ib);
+        for (k = 0; k < 4; k++)
+            worst_eig = fmax(worst_eig, hypot(ra[k] - rb[k], ia[k] - ib[k]) /
+                                            fmax(1.0, hypot(rb[k], ib[k])));
     }
     vw = crossing(s, kv, 3.0, 5.0, 1);
     vc = crossing(s, kv, 5.0, 7.0, 0);
     vw_b = crossing(NULL, kv, 3.0, 5.0, 1);
     vc_b = crossing(NULL, kv, 5.0, 7.0, 0);
+    printf("bicycle: eigenvalues at 0 .. 10 m/s against the published "
+           "matrices' %.2g\n", worst_eig);
+    CHECK(worst_eig <= 1e-12);
     printf("bicycle: characteristic polynomials at 0 .. 10 m/s against the "
            "published matrices' %.2g; weave speed %.14g (published "
            "4.29238253634111, from the published matrices %.14g), capsize "
            "speed %.14g (published 6.02426201538837, %.14g)\n", worst, vw,
            vw_b, vc, vc_b);
-    CHECK(worst <= 1e-9);
+    CHECK(worst <= 1e-10);
     CHECK_NEAR(vw_b, 4.29238253634111, 1e-12);
     CHECK_NEAR(vc_b, 6.02426201538837, 1e-12);
     CHECK_NEAR(vw, 4.29238253634111, 1e-10);

@@ -771,6 +771,26 @@ static int sum(lang_inst *in, const node *nd, lval *out)
     return 0;
 }
 
+int lang_enter(lang_inst *in, int tok)
+{
+    if (--in->budget < 0) {
+        lang_fail(in, tok,
+                  "check the settings (a number of links or modes?) and "
+                  "sums over large ranges",
+                  "the model is too large: recording %s takes more than %ld "
+                  "steps", in->what, in->p->budget);
+        return -1;
+    }
+    if (++in->depth > LANG_MAX_DEPTH) {
+        lang_fail(in, tok,
+                  "evaluate a long recurrence in increasing order, for "
+                  "example through a sum over its index",
+                  "definitions nest more than %d deep", LANG_MAX_DEPTH);
+        return -1;
+    }
+    return 0;
+}
+
 /* A scalar made by functions of vectors (dot, norm, a component, der):
  * its own frame, so that the scalar walker's frames stay small. */
 #if defined(__GNUC__)
@@ -793,21 +813,8 @@ int lang_eval(lang_inst *in, int n, lval *out)
     int rc = 0;
     if (in->failed)
         return -1;
-    if (--in->budget < 0) {
-        lang_fail(in, nd->tok,
-                  "check the settings (a number of links or modes?) and "
-                  "sums over large ranges",
-                  "the model is too large: recording %s takes more than %ld "
-                  "steps", in->what, in->p->budget);
+    if (lang_enter(in, nd->tok) < 0)
         return -1;
-    }
-    if (++in->depth > LANG_MAX_DEPTH) {
-        lang_fail(in, nd->tok,
-                  "evaluate a long recurrence in increasing order, for "
-                  "example through a sum over its index",
-                  "definitions nest more than %d deep", LANG_MAX_DEPTH);
-        return -1;
-    }
     memset(&b, 0, sizeof b);
     switch (nd->kind) {
     case N_NUM: *out = konst(nd->num); break;

@@ -380,6 +380,9 @@ typedef struct lang_inst {
     int ncbs;
 } lang_inst;
 
+/* One step of a walk at token tok: counts it against the budget and the
+ * depth (lang_eval and lang_eval_d undo the depth). 0, or -1 failed. */
+int lang_enter(lang_inst *in, int tok);
 /* Evaluate node n (in constants-only mode when inst->r is NULL). Returns
  * 0, or -1 with inst->failed set and the message in inst->err. */
 int lang_eval(lang_inst *in, int n, lval *out);

@@ -354,21 +354,8 @@ int lang_eval_d(lang_inst *in, int n, ldvec *out, int want_d)
         scalar(out, v);
         return 0;
     }
-    if (--in->budget < 0) {
-        lang_fail(in, nd->tok,
-                  "check the settings (a number of links or modes?) and "
-                  "sums over large ranges",
-                  "the model is too large: recording %s takes more than %ld "
-                  "steps", in->what, in->p->budget);
+    if (lang_enter(in, nd->tok) < 0)
         return -1;
-    }
-    if (++in->depth > LANG_MAX_DEPTH) {
-        lang_fail(in, nd->tok,
-                  "evaluate a long recurrence in increasing order, for "
-                  "example through a sum over its index",
-                  "definitions nest more than %d deep", LANG_MAX_DEPTH);
-        return -1;
-    }
     switch (nd->kind) {
     case N_NUM: scalar(out, num(nd->num)); break;
     case N_NAME:
