@@ -765,7 +765,7 @@ int lang_build(lang_prog *p, const double *setting, eom_model **out,
     lang_inst *in = calloc(1, sizeof *in);
     eom_model *m = NULL;
     double *x0 = NULL;
-    int rc, k;
+    int rc, k, has_quat = 0;
     *out = NULL;
     if (!in || eom_model_new(&m) != EOM_OK) {
         free(in);
@@ -786,9 +786,8 @@ int lang_build(lang_prog *p, const double *setting, eom_model **out,
     }
     memcpy(in->setting, setting, (size_t)p->nsyms * sizeof *setting);
     rc = declare(in, m) == 0 && add_callbacks(in, m) == 0 ? 0 : -1;
-    for (k = 0; k < p->nnodes && rc == 0 && !in->quat_check; k++)
-        in->quat_check = p->nodes[k].kind == N_CALL &&
-                         p->nodes[k].op == F_QUAT;
+    for (k = 0; k < p->nnodes && rc == 0 && !has_quat; k++)
+        has_quat = p->nodes[k].kind == N_CALL && p->nodes[k].op == F_QUAT;
     if (rc == 0) {
         const int n = eom_model_ncoords(m);
         /* (q, qd, t): the forces' recording reads the time too */
@@ -802,9 +801,12 @@ int lang_build(lang_prog *p, const double *setting, eom_model **out,
                 x0[n + k] = m->coords[k].v1;
             }
             x0[2 * n] = 0.0;
-            rc = check_mass(in, m, x0) == 0 && run_others(in, m, x0) == 0
-                     ? 0
-                     : -1;
+            /* the quaternions' lengths only in the run of the double
+             * evaluator (their outputs would join the Lagrangian's tape) */
+            rc = check_mass(in, m, x0);
+            in->quat_check = has_quat;
+            if (rc == 0)
+                rc = run_others(in, m, x0);
             in->quat_check = 0;
         }
     }
