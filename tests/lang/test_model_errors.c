@@ -188,6 +188,25 @@ static const err_case cases[] = {
     {"a matrix constraint",
      HEAD "T = 1/2*m*x_dot^2\nconstraint c = diag(x, x, x)\n", 4, 12,
      "the constraint c is a matrix", NULL},
+    {"a number beyond the doubles", "param a = 1e999 [m]\n" HEAD
+     "T = 1/2*m*x_dot^2\n", 1, 11, "the number 1e999 is too large", NULL},
+    {"chained comparisons",
+     HEAD "T = 1/2*m*x_dot^2*if(1 < 2 < 3, 1, 0)\n", 3, 28,
+     "comparisons do not chain", "(a < b)*(b < c)"},
+    {"a scalar and an indexed definition of one name",
+     HEAD "a = x\na[j in 1..2] = x\nT = 1/2*m*x_dot^2\n", 4, 1,
+     "a is defined twice", "line 3"},
+    {"the square root of an odd power of a unit",
+     HEAD "T = 1/2*m*x_dot^2 + 0*sqrt(sqrt(m))\n", 3, 23,
+     "the square root of kg^0.5 has a fractional unit", NULL},
+    {"too many indices", "param m = 1 [kg]\n"
+     "coord x[a in 1..2, b in 1..2, c in 1..2, d in 1..2, e in 1..2] = 0 "
+     "[m]\nT = 1/2*m*x_dot[1, 1, 1, 1]^2\n", 2, 53, "too many indices",
+     NULL},
+    {"a long name two edits away",
+     HEAD "param theta_long_name = 1 [m]\n"
+     "T = 1/2*m*x_dot^2 + 0*m*theta_lnog_nmae\n", 4, 25,
+     "unknown name 'theta_lnog_nmae'", "did you mean 'theta_long_name'?"},
     {"a quaternion that is not of unit length at the start",
      "units off\nparam m = 1\ncoord a = 0.3\n"
      "Rq = quat(cos(a/2), sin(a/2), 0, 0.1)\nT = 1/2*m*a_dot^2 + 0*Rq.xx\n",
@@ -333,6 +352,46 @@ static void time_allowed(void)
     }
 }
 
+/* Forms that must build: a mutant that refuses them is caught here. */
+static void accepted(void)
+{
+    static const char *const ok[] = {
+        /* a pure number raised to a parameter's power */
+        "param n = 2 [1]\nparam l = 1 [m]\nparam g = 9.81 [m/s^2]\n" HEAD
+        "V = m*g*l*(x/l)^n\nT = 1/2*m*x_dot^2\n",
+        /* a family whose name ends in a digit */
+        "param m = 1 [kg]\ncoord x1[j in 1..2] = 0 [m]\n"
+        "T = 1/2*m*sum(j in 1..2, x1_dot[j]^2)\n",
+    };
+    char err[4096];
+    eom_model *m = NULL;
+    eom_system *s = NULL;
+    eom_file *f = NULL;
+    size_t k;
+    for (k = 0; k < sizeof ok / sizeof ok[0]; k++) {
+        if (eom_model_from_string(&m, ok[k], err, sizeof err) != EOM_OK)
+            CHECK_FAIL_("refused:\n%s\n%s", ok[k], err);
+        else
+            check_count_++;
+        if (k == 1 && m && eom_system_new(&s, m, err, sizeof err) == EOM_OK) {
+            /* members of x1 are x1_1 and x1_2, never x11 */
+            CHECK(strcmp(eom_coord_name(s, 0), "x1_1") == 0);
+            CHECK(strcmp(eom_coord_name(s, 1), "x1_2") == 0);
+        }
+        eom_system_free(&s);
+        eom_model_free(&m);
+    }
+    /* a setting below or above its range, through the API */
+    CHECK_INT(eom_file_parse(&f, "setting n = 2 in 1..3\n" HEAD
+                             "T = 1/2*m*x_dot^2\n", "s", err, sizeof err),
+              EOM_OK);
+    CHECK(eom_file_set_setting(f, "n", 0, err, sizeof err) != EOM_OK);
+    CHECK(strstr(err, "1..3") != NULL);
+    CHECK(eom_file_set_setting(f, "n", 4, err, sizeof err) != EOM_OK);
+    CHECK_INT(eom_file_set_setting(f, "n", 3, err, sizeof err), EOM_OK);
+    eom_file_free(&f);
+}
+
 int main(void)
 {
     size_t k;
@@ -341,5 +400,6 @@ int main(void)
     time_allowed();
     check_caret();
     check_limits();
+    accepted();
     CHECK_DONE();
 }

@@ -93,8 +93,16 @@ int main(void)
         {"sq[n]", (double)(N * N) * X},
         {"w[2, 3]", 6.0 * Y},
     };
-    const size_t nc = sizeof cases / sizeof cases[0];
-    char *text = malloc(64 * 1024), err[4096];
+    const size_t nfixed = sizeof cases / sizeof cases[0];
+    /* constant folding against the plain operation: every binary
+     * operator with a constant of either sign on either side, written
+     * as a number, in parentheses, and after a unary minus */
+    static const double consts[] = {-2, -1, -0.5, 0, 0.5, 1, 2};
+    static const char ops[] = "+-*/^";
+    char (*ftext)[48] = malloc(400 * sizeof *ftext);
+    double *fval = malloc(400 * sizeof *fval);
+    size_t nc = nfixed;
+    char *text = malloc(96 * 1024), err[4096];
     eom_model *m = NULL;
     eom_system *s = NULL;
     double x[4], *p;
@@ -107,8 +115,47 @@ int main(void)
                  "f_sum = sum(j in 1..n, f[j])\n"
                  "sq[j in 1..n] = j^2*x\n"
                  "w[i in 1..3, k in 1..3] = i*k*y\n");
-    for (k = 0; k < nc; k++)
+    for (k = 0; k < nfixed; k++)
         sprintf(text + strlen(text), "probe p%zu = %s\n", k, cases[k].text);
+    {
+        size_t o, c, side, form, nf = 0;
+        for (o = 0; o < 5; o++)
+            for (c = 0; c < sizeof consts / sizeof consts[0]; c++)
+                for (side = 0; side < 2; side++)
+                    for (form = 0; form < 3; form++) {
+                        const double cv = consts[c];
+                        const char op = ops[o];
+                        double a = side ? X : cv, b = side ? cv : X, v;
+                        char ct[16];
+                        if ((op == '/' && b == 0.0) ||
+                            (op == '^' && a <= 0.0) ||
+                            (form == 2 && cv >= 0.0))
+                            continue; /* undefined, or no unary form */
+                        if (form == 0)
+                            snprintf(ct, sizeof ct, "%g", cv);
+                        else if (form == 1)
+                            snprintf(ct, sizeof ct, "(%g)", cv);
+                        else /* a unary minus before the number */
+                            snprintf(ct, sizeof ct, "-%g", -cv);
+                        if (form == 0 && cv < 0.0 && !side)
+                            snprintf(ct, sizeof ct, "(%g)", cv);
+                        v = op == '+'   ? a + b
+                            : op == '-' ? a - b
+                            : op == '*' ? a * b
+                            : op == '/' ? a / b
+                                        : pow(a, b);
+                        /* -2^x is -(2^x): the unary form's own meaning */
+                        if (form == 2 && !side && op == '^')
+                            v = -pow(-cv, X);
+                        snprintf(ftext[nf], sizeof ftext[nf], "%s %c %s",
+                                 side ? "x" : ct, op, side ? ct : "x");
+                        fval[nf] = v;
+                        sprintf(text + strlen(text), "probe p%zu = %s\n", nc,
+                                ftext[nf]);
+                        nf++;
+                        nc++;
+                    }
+    }
     rc = eom_model_from_string(&m, text, err, sizeof err);
     if (rc != EOM_OK) {
         CHECK_FAIL_("%s", err);
@@ -118,14 +165,19 @@ int main(void)
     p = calloc(nc, sizeof *p);
     CHECK(eom_initial_state(s, x) == EOM_OK);
     CHECK(eom_probes_at(s, x, p) == EOM_OK);
-    for (k = 0; k < nc; k++)
-        if (!(fabs(p[k] - cases[k].value) <=
-              1e-14 * fmax(1.0, fabs(cases[k].value))))
-            CHECK_FAIL_("%s = %.17g, expected %.17g", cases[k].text, p[k],
-                        cases[k].value);
+    for (k = 0; k < nc; k++) {
+        const char *t = k < nfixed ? cases[k].text : ftext[k - nfixed];
+        double want = k < nfixed ? cases[k].value : fval[k - nfixed];
+        if (!(fabs(p[k] - want) <= 1e-14 * fmax(1.0, fabs(want))))
+            CHECK_FAIL_("%s = %.17g, expected %.17g", t, p[k], want);
         else
             check_count_++;
+    }
+    printf("%zu expressions, %zu of them constant folding\n", nc,
+           nc - nfixed);
     free(p);
+    free(ftext);
+    free(fval);
     free(text);
     eom_system_free(&s);
     eom_model_free(&m);
