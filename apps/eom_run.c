@@ -7,10 +7,12 @@
  * the command line and puts the pieces together; the demos live in
  * demos/, the run itself, the start of a constrained run, the CSV and the
  * generic plots in the run layer (eom/run.h, libeom/run/), --modes in
- * modes_report.c.
+ * modes_report.c (an equilibrium, or the start when it moves steadily)
+ * and --modes --sweep in modes_sweep.c.
  *
  * Exit status: 0 success, 1 the run failed (model, initial projection,
- * integrator, output file, plots; with --modes: no equilibrium), 2 the
+ * integrator, output file, plots; with --modes: no equilibrium, or a
+ * start that is not a steady motion), 2 the
  * command line is wrong (nothing was run or written). */
 #define _GNU_SOURCE /* getopt_long */
 #include <getopt.h>
@@ -26,8 +28,10 @@
 #include "demos/file_demo.h"
 #include "describe.h"
 #include "eom/eom.h"
+#include "eom/steady.h"
 #include "linearize_report.h"
 #include "modes_report.h"
+#include "modes_sweep.h"
 #include "overrides.h"
 
 enum { EXIT_RUN = 1, EXIT_USAGE = CLI_EXIT_USAGE };
@@ -49,6 +53,11 @@ typedef struct cli {
     int plots;             /* --plots: the demo's after_run hook */
     int modes;             /* --modes: equilibrium and frequencies */
     int linearize;         /* --linearize: A, B about the start state */
+    const char *sweep_arg; /* --sweep NAME=LO:HI:N (with --modes) */
+    modes_sweep sweep;     /* its fields */
+    const char *indep_arg; /* --independent NAME[,NAME...] */
+    int *indep;            /* their state indices */
+    int nindep;
     const char *sens_arg;  /* --sensitivity NAME[,NAME...] */
     int *sens;             /* their inputs (eom_opts.sens) */
     unsigned extra;        /* --columns: optional CSV columns */
@@ -76,7 +85,9 @@ enum {
     OPT_LINEARIZE,
     OPT_SENSITIVITY,
     OPT_COLUMNS,
-    OPT_COMPILED
+    OPT_COMPILED,
+    OPT_SWEEP,
+    OPT_INDEPENDENT
 };
 
 static const struct option long_options[] = {
@@ -101,6 +112,8 @@ static const struct option long_options[] = {
     {"plots", no_argument, NULL, OPT_PLOTS},
     {"modes", no_argument, NULL, OPT_MODES},
     {"linearize", no_argument, NULL, OPT_LINEARIZE},
+    {"sweep", required_argument, NULL, OPT_SWEEP},
+    {"independent", required_argument, NULL, OPT_INDEPENDENT},
     {"sensitivity", required_argument, NULL, OPT_SENSITIVITY},
     {"columns", required_argument, NULL, OPT_COLUMNS},
     {"compiled", no_argument, NULL, OPT_COMPILED},
@@ -113,6 +126,8 @@ static void usage_line(FILE *f)
     fprintf(f, "usage: eom-run --list\n"
                "       eom-run DEMO --describe [--set NAME=VALUE]...\n"
                "       eom-run DEMO --modes [--set NAME=VALUE]...\n"
+               "       eom-run DEMO --modes --sweep NAME=LO:HI:N [--out FILE] "
+               "[--plots]\n"
                "       eom-run DEMO --linearize [--set NAME=VALUE]...\n"
                "       eom-run DEMO [OPTION]...\n"
                "DEMO is a demo or shipped model by name, or a model file "
@@ -205,7 +220,27 @@ static void help(void)
         "      --modes           do not integrate: find the static "
         "equilibrium from the\n"
         "                        initial state and print it with the "
-        "natural frequencies\n"
+        "natural frequencies;\n"
+        "                        about a start that moves steadily "
+        "(accelerations 0,\n"
+        "                        cyclic coordinates at constant rates) or "
+        "a model with\n"
+        "                        velocity constraints: the eigenvalues "
+        "about the start,\n"
+        "                        reduced to independent coordinates and "
+        "speeds\n"
+        "      --independent NAME[,NAME...]\n"
+        "                        with --modes about a steady motion: the "
+        "coordinates and\n"
+        "                        rates (NAME_dot) to reduce to (default: "
+        "chosen)\n"
+        "      --sweep NAME=LO:HI:N\n"
+        "                        with --modes: the eigenvalues at N values "
+        "of the parameter\n"
+        "                        NAME from LO to HI, as CSV to --out "
+        "(default\n"
+        "                        MODEL-modes.csv); with --plots also their "
+        "plot\n"
         "      --linearize       do not integrate: print the state-space "
         "matrices A = d(xd)/dx\n"
         "                        and B = d(xd)/dp about the start state, "
@@ -281,6 +316,155 @@ static int sensitivity_arg(cli *c, const eom_system *s)
     c->opts.n_sens = count;
     c->opts.sens = c->sens;
     return 0;
+}
+
+/* --independent NAME[,NAME...]: coordinates and rates (NAME_dot) into
+ * c->indep as state indices (i, or n + i). Returns 0, or a usage
+ * error. */
+static int independent_arg(cli *c, const eom_system *s)
+{
+    const int n = eom_system_ncoords(s);
+    const char *p = c->indep_arg;
+    int count = 1, k = 0;
+    for (; *p; p++)
+        count += *p == ',';
+    c->indep = malloc((size_t)count * sizeof *c->indep);
+    if (!c->indep) {
+        fprintf(stderr, "eom-run: out of memory\n");
+        return EXIT_RUN;
+    }
+    for (p = c->indep_arg; k < count; k++) {
+        const char *end = strchr(p, ',');
+        const size_t len = end ? (size_t)(end - p) : strlen(p);
+        char name[160];
+        int i, w = -1;
+        if (len == 0 || len >= sizeof name)
+            return cli_usage_error("--independent: an empty or too long "
+                                   "name in '%s'", c->indep_arg);
+        memcpy(name, p, len);
+        name[len] = '\0';
+        if ((i = eom_coord_index(s, name)) >= 0) {
+            w = i;
+        } else if (len > 4 && strcmp(name + len - 4, "_dot") == 0) {
+            name[len - 4] = '\0';
+            if ((i = eom_coord_index(s, name)) >= 0)
+                w = n + i;
+            name[len - 4] = '_';
+        }
+        if (w < 0)
+            return cli_usage_error("--independent: '%s' is not a coordinate "
+                                   "or a rate (NAME_dot) of the model "
+                                   "(--describe lists them)", name);
+        c->indep[k] = w;
+        p = end ? end + 1 : p + len;
+    }
+    c->nindep = count;
+    return 0;
+}
+
+/* The start of a --modes run about a steady motion, again for each
+ * value of a --sweep: the model's initial state for the parameters now
+ * set, the --set coordinates and rates, and the projection onto the
+ * constraints. */
+typedef struct start_ctx {
+    cli *c;
+    const demo *d;
+} start_ctx;
+
+static int steady_start(void *user, eom_system *s, double *x)
+{
+    start_ctx *sc = user;
+    char err[4096];
+    if (eom_initial_state(s, x) != EOM_OK) {
+        fprintf(stderr, "eom-run: %s: %s\n", sc->d->name,
+                eom_system_errmsg(s));
+        return 1;
+    }
+    if (overrides_apply_state(sc->c->sets, sc->c->nsets, sc->d, s, x, err,
+                              sizeof err) != 0) {
+        fprintf(stderr, "eom-run: %s\n", err);
+        return 1;
+    }
+    return eom_run_prepare_start(s, x, &sc->c->opts, "eom-run",
+                                 sc->d->name) != 0;
+}
+
+/* --modes about the start state when it moves steadily, or for
+ * --sweep; else the equilibrium search as before. */
+static int modes(cli *c, const demo *d, const double *settings,
+                 eom_system *s, double *x0)
+{
+    const int n = eom_system_ncoords(s);
+    start_ctx sc;
+    double *x;
+    int moving = 0, k, status;
+    sc.c = c;
+    sc.d = d;
+    if (c->sweep_arg) {
+        char def[1100];
+        const char *out = c->out;
+        if ((k = eom_param_index(s, c->sweep.name)) < 0)
+            return cli_usage_error("--sweep '%s': %s has no parameter named "
+                                   "'%s' (see: eom-run %s --describe)",
+                                   c->sweep_arg, d->name, c->sweep.name,
+                                   d->name);
+        if (!out) {
+            const char *base = strrchr(d->name, '/');
+            size_t len;
+            base = base ? base + 1 : d->name;
+            len = strlen(base);
+            if (len > 4 && strcmp(base + len - 4, ".eom") == 0)
+                len -= 4;
+            snprintf(def, sizeof def, "%.*s-modes.csv", (int)len, base);
+            out = def;
+        }
+        return modes_sweep_run(s, k, &c->sweep, steady_start, &sc, c->indep,
+                               c->nindep, d->name, out, c->plots, c->quiet)
+                   ? EXIT_RUN
+                   : EXIT_SUCCESS;
+    }
+    for (k = 0; k < n; k++)
+        moving |= x0[n + k] != 0.0;
+    if (moving || c->indep) {
+        x = malloc(2 * (size_t)n * sizeof *x + 1);
+        if (!x) {
+            fprintf(stderr, "eom-run: out of memory\n");
+            return EXIT_RUN;
+        }
+        memcpy(x, x0, 2 * (size_t)n * sizeof *x);
+        if (eom_run_prepare_start(s, x, &c->opts, "eom-run", d->name) != 0) {
+            free(x);
+            return EXIT_RUN;
+        }
+        /* moving but not steady: the equilibrium search, as before */
+        if (c->indep || eom_steady_check(s, 0.0, x, NULL, NULL, NULL) ==
+                            EOM_OK) {
+            status = modes_steady_report(stdout, s, x, c->indep, c->nindep,
+                                         d->name) == 0
+                         ? EXIT_SUCCESS
+                         : EXIT_RUN;
+            free(x);
+            return status;
+        }
+        free(x);
+    }
+    {
+        /* the demo's rest guess, unless the user placed the coordinates */
+        const char *origin = "the initial state";
+        int placed = 0;
+        for (k = 0; k < c->nsets; k++) {
+            char name[128];
+            snprintf(name, sizeof name, "%.*s", (int)c->sets[k].namelen,
+                     c->sets[k].arg);
+            placed |= eom_coord_index(s, name) >= 0;
+        }
+        if (!placed && d->rest_guess &&
+            d->rest_guess(d, settings, s, x0) == 0)
+            origin = "the demo's rest guess";
+        return modes_report(stdout, s, x0, d->name, origin) == 0
+                   ? EXIT_SUCCESS
+                   : EXIT_RUN;
+    }
 }
 
 /* --erk-table: one of the names libeom knows, else the list. */
@@ -458,6 +642,16 @@ static int parse(int argc, char **argv, cli *c)
         case OPT_PLOTS: c->plots = 1; break;
         case OPT_MODES: c->modes = 1; break;
         case OPT_LINEARIZE: c->linearize = 1; break;
+        case OPT_SWEEP:
+            if (modes_sweep_parse(optarg, &c->sweep, err, sizeof err) != 0)
+                return cli_usage_error("%s", err);
+            c->sweep_arg = optarg;
+            break;
+        case OPT_INDEPENDENT:
+            if (!optarg[0])
+                return cli_usage_error("--independent: no name");
+            c->indep_arg = optarg;
+            break;
         case OPT_COMPILED: c->compiled = 1; break;
         case OPT_SENSITIVITY:
             if (!optarg[0])
@@ -534,11 +728,17 @@ static int run(cli *c, const demo *d)
                                "integrated by --integrator adams, bdf or "
                                "ida, not %s",
                                eom_method_name(c->opts.method));
-    if ((c->modes || c->linearize) && (c->plots || c->out))
+    if (c->sweep_arg && !c->modes)
+        return cli_usage_error("--sweep belongs to --modes");
+    if (c->indep_arg && !c->modes)
+        return cli_usage_error("--independent belongs to --modes");
+    if (((c->modes && !c->sweep_arg) || c->linearize) &&
+        (c->plots || c->out))
         return cli_usage_error("--%s prints to standard output and runs "
-                               "nothing: --out and --plots belong to a run",
+                               "nothing: --out and --plots belong to a run "
+                               "(or to --modes --sweep)",
                                c->modes ? "modes" : "linearize");
-    if (c->plots && !d->after_run)
+    if (c->plots && !d->after_run && !c->sweep_arg)
         return cli_usage_error("--plots: the demo %s has no plots", d->name);
     if (c->t_end / c->sample > MAX_ROWS)
         return cli_usage_error("--t-end / --sample = %g: more than %g rows",
@@ -579,6 +779,10 @@ static int run(cli *c, const demo *d)
         status = cli_usage_error("%s", err);
         goto done;
     }
+    if (c->indep_arg && (rc = independent_arg(c, s)) != 0) {
+        status = rc;
+        goto done;
+    }
     if (c->sens_arg && (rc = sensitivity_arg(c, s)) != 0) {
         status = rc;
         goto done;
@@ -603,20 +807,7 @@ static int run(cli *c, const demo *d)
         goto done;
     }
     if (c->modes) {
-        /* the demo's rest guess, unless the user placed the coordinates */
-        const char *origin = "the initial state";
-        int placed = 0, k;
-        for (k = 0; k < c->nsets; k++) {
-            char name[128];
-            snprintf(name, sizeof name, "%.*s", (int)c->sets[k].namelen,
-                     c->sets[k].arg);
-            placed |= eom_coord_index(s, name) >= 0;
-        }
-        if (!placed && d->rest_guess && d->rest_guess(d, settings, s, x0) == 0)
-            origin = "the demo's rest guess";
-        status = modes_report(stdout, s, x0, d->name, origin) == 0
-                     ? EXIT_SUCCESS
-                     : EXIT_RUN;
+        status = modes(c, d, settings, s, x0);
         goto done;
     }
     if (eom_run_prepare_start(s, x0, &c->opts, "eom-run", d->name) != 0)
@@ -694,6 +885,8 @@ done:
     free(x0);
     free(c->sens);
     c->sens = NULL;
+    free(c->indep);
+    c->indep = NULL;
     return status;
 }
 

@@ -28,4 +28,15 @@
 int modes_report(FILE *f, eom_system *s, const double *x0,
                  const char *label, const char *origin);
 
+/* eom-run --modes about a start state x (2n values) that moves: a
+ * steady motion (eom_linearize_steady), or one at rest of a model with
+ * velocity constraints (no equilibrium search for those). Prints the
+ * start, the cyclic coordinates, the independent states (keep: nkeep
+ * state indices named by --independent, or NULL to choose them) and the
+ * eigenvalues of the reduced state matrix with a verdict on stability.
+ * Returns 0, or 1 after a message on standard error (not a steady
+ * motion: the message names the largest acceleration). */
+int modes_steady_report(FILE *f, eom_system *s, const double *x,
+                        const int *keep, int nkeep, const char *label);
+
 #endif /* APPS_MODES_REPORT_H */

@@ -157,3 +157,38 @@ int overrides_apply(const override *ov, int n, const demo *d, eom_system *s,
     }
     return 0;
 }
+
+int overrides_apply_state(const override *ov, int n, const demo *d,
+                          eom_system *s, double *x, char *err, size_t errlen)
+{
+    static const char dot[] = "_dot";
+    const size_t ldot = sizeof dot - 1;
+    const int nc = eom_system_ncoords(s);
+    char name[256];
+    int i, k;
+    for (i = 0; i < n; i++) {
+        size_t len = ov[i].namelen;
+        if (demo_setting_index(d, ov[i].arg, len) >= 0)
+            continue;
+        if (len < sizeof name) {
+            memcpy(name, ov[i].arg, len);
+            name[len] = '\0';
+            if (eom_param_index(s, name) >= 0)
+                continue;
+            if ((k = eom_coord_index(s, name)) >= 0) {
+                x[k] = ov[i].value;
+                continue;
+            }
+            if (len > ldot && strcmp(name + len - ldot, dot) == 0) {
+                name[len - ldot] = '\0';
+                if ((k = eom_coord_index(s, name)) >= 0) {
+                    x[nc + k] = ov[i].value;
+                    continue;
+                }
+            }
+        }
+        unknown_name(&ov[i], d, s, err, errlen);
+        return -1;
+    }
+    return 0;
+}

@@ -39,4 +39,12 @@ int overrides_settings(const override *ov, int n, const demo *d,
 int overrides_apply(const override *ov, int n, const demo *d, eom_system *s,
                     double *x, char *err, size_t errlen);
 
+/* The coordinates and rates of the overrides alone, into x (2n values);
+ * parameters and settings are skipped. eom-run --modes --sweep places
+ * them on the start it takes again at each value of the swept parameter.
+ * Returns 0, or -1 with a message in err. */
+int overrides_apply_state(const override *ov, int n, const demo *d,
+                          eom_system *s, double *x, char *err,
+                          size_t errlen);
+
 #endif /* APPS_OVERRIDES_H */

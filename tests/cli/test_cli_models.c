@@ -142,6 +142,101 @@ static void case_modes(void)
     result_free(&r);
 }
 
+/* --modes about a steady motion: the rolling disk upright at 1.5 m/s
+ * (its lean set to 0) reduced to lean, heading rate and lean rate; its
+ * own start leans and is refused with the largest acceleration. --sweep
+ * of gravity: the CSV's header, its rows, and the eigenvalues against
+ * the closed form s^2 = (4/5) (g / r - 3 v^2 / r^2) (test_steady.c
+ * derives it); malformed sweeps are usage errors. */
+static void case_modes_steady(void)
+{
+    const double r0 = 0.3, v = 1.5;
+    char path[PATH_MAX];
+    const char *upright[] = {"rolling-disk", "--modes", "--set", "theta=0",
+                             NULL};
+    const char *leaning[] = {"rolling-disk", "--modes", NULL};
+    const char *sweep[] = {"rolling-disk", "--modes", "--set", "theta=0",
+                           "--sweep", "g=0:30:7", "--out", path, "-q",
+                           NULL};
+    const char *bad[][6] = {
+        {"rolling-disk", "--modes", "--sweep", "g=0:30", NULL},
+        {"rolling-disk", "--modes", "--sweep", "g=0:30:1", NULL},
+        {"rolling-disk", "--modes", "--sweep", "g=0:x:5", NULL},
+        {"rolling-disk", "--modes", "--sweep", "theta=0:1:5", NULL},
+        {"rolling-disk", "--sweep", "g=0:30:5", NULL},
+    };
+    const char *why[] = {"three fields", "N must be", "HI 'x'",
+                         "no parameter named 'theta'", "belongs to --modes"};
+    result res;
+    csv c;
+    char msg[256], *text;
+    int row, j, k;
+    run(&res, upright);
+    CHECK_INT(res.status, 0);
+    CHECK_HAS(res.out, "a steady motion");
+    CHECK_HAS(res.out, "independent states (3 of the 8 on the constraints): "
+                       "theta, psi_dot, theta_dot");
+    {
+        /* the table's row 3: k, re, im; an oscillation above the
+         * critical speed */
+        const char *p = res.out ? strstr(res.out, "\n     3  ") : NULL;
+        char *e = NULL;
+        double re = p ? strtod(p + 9, &e) : NAN;
+        double im = e ? strtod(e, NULL) : NAN;
+        CHECK_NEAR(re, 0.0, 1e-12);
+        CHECK_NEAR(im, sqrt(-0.8 * (9.81 / r0 - 3.0 * v * v / (r0 * r0))),
+                   1e-12);
+    }
+    result_free(&res);
+    run(&res, leaning);
+    CHECK_INT(res.status, 1);
+    CHECK_HAS(res.err, "neither at rest nor a steady motion");
+    CHECK_HAS(res.err, "theta_ddot");
+    result_free(&res);
+
+    scratch(path, sizeof path, "disk-modes.csv");
+    run(&res, sweep);
+    CHECK_INT(res.status, 0);
+    CHECK(res.out && res.out[0] == '\0');
+    result_free(&res);
+    text = read_file(path, NULL);
+    CHECK(text != NULL);
+    if (text && csv_parse(text, &c, msg, sizeof msg) == 0) {
+        CHECK(strcmp(c.header, "g,re1,im1,re2,im2,re3,im3") == 0);
+        CHECK_INT(c.nrows, 7);
+        CHECK_INT(c.ncols, 7);
+        for (row = 0; row < c.nrows && c.ncols == 7; row++) {
+            const double g = 5.0 * row;
+            const double s2 = 0.8 * (g / r0 - 3.0 * v * v / (r0 * r0));
+            double big = 0.0, sq = 0.0;
+            CHECK_NEAR(at(&c, row, 0), g, 1e-15);
+            for (j = 0; j < 3; j++) {
+                const double re = at(&c, row, 1 + 2 * j);
+                const double im = at(&c, row, 2 + 2 * j);
+                if (hypot(re, im) > big) {
+                    big = hypot(re, im);
+                    sq = re * re - im * im;
+                }
+            }
+            CHECK_NEAR(sq, s2, 1e-10);
+        }
+        /* row 5 (g = 25): a real pair, the unstable one */
+        for (j = 0, k = 0; j < 3 && c.nrows == 7 && c.ncols == 7; j++)
+            k += at(&c, 5, 1 + 2 * j) > 1.0;
+        CHECK_INT(k, 1);
+        free(c.v);
+    } else {
+        CHECK_FAIL_("the sweep's CSV: %s", text ? msg : "missing");
+    }
+    free(text);
+    for (k = 0; k < 5; k++) {
+        run(&res, bad[k]);
+        CHECK_INT(res.status, 2);
+        CHECK_HAS(res.err, why[k]);
+        result_free(&res);
+    }
+}
+
 /* The values of row `row` of block `blk` of --linearize's output (up to
  * max); the number of values, or -1 when the block or row is missing. */
 static int block_row(const char *out, const char *blk, const char *row,
@@ -732,6 +827,7 @@ static const struct {
     {"model_list", case_list},   {"model_describe", case_describe},
     {"model_csv", case_csv},     {"model_error", case_error},
     {"model_modes", case_modes}, {"model_plots", case_plots},
+    {"model_modes_steady", case_modes_steady},
 };
 
 int main(int argc, char **argv)
