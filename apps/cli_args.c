@@ -1,8 +1,10 @@
 /* cli_args.c - shared command-line pieces of the programs (cli_args.h). */
+#define _POSIX_C_SOURCE 200809L
 #include "cli_args.h"
 
 #include <stdarg.h>
 #include <stdio.h>
+#include <sys/stat.h>
 
 #include "eom/run.h"
 
@@ -13,6 +15,17 @@ void cli_args_program(const char *name, int speak)
 {
     program = name;
     speaks = speak;
+}
+
+int cli_out_not_input(const char *out, const char *input, const char *what)
+{
+    struct stat a, b;
+    if (!out || !input || stat(out, &a) != 0 || stat(input, &b) != 0 ||
+        a.st_dev != b.st_dev || a.st_ino != b.st_ino)
+        return 0;
+    return cli_usage_error("--out '%s' is %s ('%s'): the output would "
+                           "overwrite it; name another file", out, what,
+                           input);
 }
 
 int cli_usage_error(const char *fmt, ...)

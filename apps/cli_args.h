@@ -28,6 +28,13 @@ int cli_number_arg(const char *opt, const char *text, int positive,
 /* --integrator: rk4, erk, adams, bdf, ida, esdirk or imex. */
 int cli_integrator_arg(const char *text, eom_method *out);
 
+/* --out names the file input (both borrowed; input may be NULL): the same
+ * file by device and inode, through any spelling, symbolic or hard link.
+ * Returns 0 when it does not (or when either does not exist), or
+ * CLI_EXIT_USAGE after a message that calls input what (e.g. "the model
+ * file"). */
+int cli_out_not_input(const char *out, const char *input, const char *what);
+
 /* --compiled: s on compiled tapes, saying so on standard error first
  * (a first run waits for the compiler) and after, unless quiet; without
  * them a warning, and s stays on the interpreter (never an error). label

@@ -396,6 +396,14 @@ static int run(cli *c, const demo *d)
     memset(&job, 0, sizeof job);
     if (!c->out)
         return cli_usage_error("--out SUMMARY.csv is required");
+    {
+        char shipped[4096];
+        if ((k = cli_out_not_input(c->out, c->model, "the model file")) ||
+            (file_demo_shipped(c->model, shipped, sizeof shipped) == 0 &&
+             (k = cli_out_not_input(c->out, shipped, "the model file"))) ||
+            (k = cli_out_not_input(c->out, c->runs, "the runs file")))
+            return k;
+    }
     if (!!c->runs + (c->nsweeps > 0) + (c->ndists > 0) != 1)
         return cli_usage_error("give the runs with one of --runs FILE, --sweep "
                            "NAME=LO:HI:N or --random NAME=...");

@@ -738,6 +738,16 @@ static int run(cli *c, const demo *d)
                                "nothing: --out and --plots belong to a run "
                                "(or to --modes --sweep)",
                                c->modes ? "modes" : "linearize");
+    if (c->out) {
+        /* the model file, whether named by its path or a shipped one */
+        char shipped[4096];
+        if ((rc = cli_out_not_input(c->out, c->demo_name,
+                                    "the model file")) != 0)
+            return rc;
+        if (file_demo_shipped(c->demo_name, shipped, sizeof shipped) == 0 &&
+            (rc = cli_out_not_input(c->out, shipped, "the model file")) != 0)
+            return rc;
+    }
     if (c->plots && !d->after_run && !c->sweep_arg)
         return cli_usage_error("--plots: the demo %s has no plots", d->name);
     if (c->t_end / c->sample > MAX_ROWS)
@@ -851,9 +861,9 @@ static int run(cli *c, const demo *d)
     plan.extra = c->extra;
     plan.progress = isatty(STDERR_FILENO);
     status = eom_run(s, x0, &plan, w) == 0 ? EXIT_SUCCESS : EXIT_RUN;
-    /* after a failure eom_run has said why: one message is enough */
-    if (eom_csv_writer_close(&w, err, sizeof err) != 0 &&
-        status == EXIT_SUCCESS) {
+    /* after a failure eom_run has said why; the writer says where the
+     * rows are (FILE.partial, FILE unchanged) */
+    if (eom_csv_writer_close(&w, err, sizeof err) != 0) {
         fprintf(stderr, "eom-run: %s\n", err);
         status = EXIT_RUN;
     }

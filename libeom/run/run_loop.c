@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "csv_writer_internal.h"
 #include "progress.h"
 #include "run_summary.h"
 #include "sens_columns.h"
@@ -208,6 +209,8 @@ done:
         fprintf(stderr, "%s: %s\n", PROG(p), r.err);
         status = 1;
     }
+    if (status != 0)
+        csv_writer_mark_failed(w);
     progress_clear(&r.prog);
     if (it)
         have_stats = eom_integ_stats(it, &st) == EOM_OK;

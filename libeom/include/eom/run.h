@@ -63,11 +63,22 @@ EOM_API void eom_numtext_format(char *buf, size_t len, double v);
 /* A header row of names, then rows of numbers in the shortest form that
  * reads back exactly, separated by ',' and ended by '\n'. Names are
  * written as given (C identifiers need no quoting). Every write is
- * checked, so a full disk or a closed pipe is an error the caller sees. */
+ * checked, so a full disk or a closed pipe is an error the caller sees.
+ *
+ * A file is replaced, never written in place: the rows go to a new file
+ * beside it, PATH.tmp-XXXXXX (six random characters; created exclusively,
+ * never through a symbolic link), which eom_csv_writer_close syncs and
+ * renames onto PATH. Until then PATH keeps its previous content, even if
+ * the process is killed (a killed run leaves its PATH.tmp-XXXXXX behind).
+ * After a failed write, a failed eom_run, or eom_csv_writer_discard, the
+ * rows are kept as PATH.partial (replacing an older one) and PATH is left
+ * as it was. A path that exists and is not a regular file (/dev/null, a
+ * FIFO) is written directly; a symbolic link to a file replaces the file
+ * it names. A replaced file keeps its permissions; a new one gets 0666
+ * less the umask. */
 typedef struct eom_csv_writer eom_csv_writer;
 
-/* Open path (created or truncated), or standard output when path is
- * NULL. */
+/* Open a writer for path, or for standard output when path is NULL. */
 EOM_API int eom_csv_writer_open(eom_csv_writer **out, const char *path,
                                 char *err, size_t errlen);
 /* The header row: count names (borrowed). */
@@ -79,10 +90,19 @@ EOM_API int eom_csv_writer_row(eom_csv_writer *w, const double *v,
 /* Push buffered rows to the file. */
 EOM_API int eom_csv_writer_flush(eom_csv_writer *w, char *err,
                                  size_t errlen);
-/* Flush and close (standard output is flushed, not closed); *w becomes
- * NULL; NULL-safe. -1 when data could not be written. */
+/* Flush and close (standard output is flushed, not closed) and put the
+ * file in place; *w becomes NULL; NULL-safe. -1 with a message when data
+ * could not be written or the run writing to w failed (eom_run returned
+ * 1): then the message names PATH.partial, where the rows are, and PATH
+ * is unchanged. */
 EOM_API int eom_csv_writer_close(eom_csv_writer **w, char *err,
                                  size_t errlen);
+/* Close without putting the file in place: the rows are kept as
+ * PATH.partial, PATH is unchanged, and -1 comes back with a message that
+ * says so (0 for standard output or a device, which are only flushed).
+ * *w becomes NULL; NULL-safe. */
+EOM_API int eom_csv_writer_discard(eom_csv_writer **w, char *err,
+                                   size_t errlen);
 
 /* ---- the CSV contract (docs/csv.md) ------------------------------------ */
 
@@ -178,7 +198,9 @@ EOM_API void eom_run_grid(double t_end, double sample, long long *K,
  * state, the coordinates then their rates; docs/csv.md) (borrowed; flushed at least once a second and before
  * returning, not closed). Messages and the summary go to standard error.
  * Returns 0, or 1 after a message on a failure (integrator, evaluation or
- * write): the rows before the failure are in w. */
+ * write): the rows before the failure are in w, and w is marked failed,
+ * so that eom_csv_writer_close keeps them as PATH.partial and leaves PATH
+ * as it was. */
 EOM_API int eom_run(eom_system *s, const double *x0, const eom_run_opts *o,
                     eom_csv_writer *w);
 

@@ -1,0 +1,12 @@
+/* csv_writer_internal.h - what the run layer tells a CSV writer besides
+ * the rows (csv_writer.c; not installed). */
+#ifndef EOM_RUN_CSV_WRITER_INTERNAL_H
+#define EOM_RUN_CSV_WRITER_INTERNAL_H
+
+#include "eom/run.h"
+
+/* The run writing to w failed: eom_csv_writer_close will keep the rows as
+ * PATH.partial and leave PATH as it was (NULL-safe). */
+void csv_writer_mark_failed(eom_csv_writer *w);
+
+#endif /* EOM_RUN_CSV_WRITER_INTERNAL_H */
