@@ -509,6 +509,94 @@ static void case_sensitivity_constraints(void)
     }
 }
 
+/* The Whipple bicycle as docs/models.md runs it: `--modes --set v=5`
+ * prints the benchmark's eigenvalues at 5 m/s (Meijaard et al. 2007:
+ * -14.0783896927982, -0.775341882195845 +- 4.46486771378823i,
+ * -0.322866429004087), and `--modes --sweep v=0:10:201 --plots`, run as
+ * written in a fresh folder, writes 201 rows (the 101st at 5 m/s, the
+ * same values) and the plot. */
+static void case_bicycle_modes(void)
+{
+    static const double want[4][2] = {{-14.0783896927982, 0.0},
+                                      {-0.775341882195845, -4.46486771378823},
+                                      {-0.775341882195845, 4.46486771378823},
+                                      {-0.322866429004087, 0.0}};
+    const char *at5[] = {"whipple-bicycle", "--modes", "--set", "v=5", NULL};
+    const char *sweep[] = {"whipple-bicycle", "--modes", "--sweep",
+                           "v=0:10:201", "--plots", NULL};
+    char dir[300], file[400], msg[256], *text;
+    result res;
+    csv c;
+    int k;
+    run(&res, at5);
+    CHECK_INT(res.status, 0);
+    CHECK_HAS(res.out, "independent states (4 of the 10 on the "
+                       "constraints): lean, steer, lean_dot, steer_dot");
+    for (k = 0; k < 4; k++) {
+        char row[16];
+        const char *p;
+        char *e = NULL;
+        double re, im;
+        snprintf(row, sizeof row, "\n     %d  ", k + 1);
+        p = res.out ? strstr(res.out, row) : NULL;
+        re = p ? strtod(p + strlen(row), &e) : NAN;
+        im = e ? strtod(e, NULL) : NAN;
+        CHECK_NEAR(re, want[k][0], 1e-12);
+        CHECK_NEAR(im, want[k][1], 1e-12);
+    }
+    CHECK_HAS(res.out, "the motion is stable");
+    result_free(&res);
+
+    scratch(dir, sizeof dir, "bicycle");
+    CHECK(mkdir(dir, 0700) == 0);
+    run_in(&res, sweep, dir);
+    CHECK_INT(res.status, 0);
+    result_free(&res);
+    snprintf(file, sizeof file, "%s/whipple-bicycle-modes.csv", dir);
+    text = read_file(file, NULL);
+    CHECK(text != NULL);
+    if (text && csv_parse(text, &c, msg, sizeof msg) == 0) {
+        CHECK(strcmp(c.header, "v,re1,im1,re2,im2,re3,im3,re4,im4") == 0);
+        CHECK_INT(c.nrows, 201);
+        if (c.nrows == 201 && c.ncols == 9) {
+            const double *r5 = &c.v[100 * 9];
+            double got[4][2];
+            int i, j;
+            CHECK_NEAR(r5[0], 5.0, 1e-15);
+            for (k = 0; k < 4; k++) {
+                got[k][0] = r5[1 + 2 * k];
+                got[k][1] = r5[2 + 2 * k];
+            }
+            /* columns follow curves: compare as sorted sets */
+            for (i = 1; i < 4; i++)
+                for (j = i; j > 0 && (got[j][0] < got[j - 1][0] ||
+                                      (got[j][0] == got[j - 1][0] &&
+                                       got[j][1] < got[j - 1][1]));
+                     j--) {
+                    double t0 = got[j][0], t1 = got[j][1];
+                    got[j][0] = got[j - 1][0];
+                    got[j][1] = got[j - 1][1];
+                    got[j - 1][0] = t0;
+                    got[j - 1][1] = t1;
+                }
+            for (k = 0; k < 4; k++) {
+                CHECK_NEAR(got[k][0], want[k][0], 1e-12);
+                CHECK_NEAR(got[k][1], want[k][1], 1e-12);
+            }
+        }
+        free(c.v);
+    } else if (text) {
+        CHECK_FAIL_("whipple-bicycle-modes.csv: %s", msg);
+    }
+    free(text);
+    if (system("command -v gnuplot > /dev/null 2>&1") == 0) {
+        struct stat st;
+        snprintf(file, sizeof file, "%s/whipple-bicycle-modes-eigenvalues.png",
+                 dir);
+        CHECK(stat(file, &st) == 0 && st.st_size > 0);
+    }
+}
+
 /* --plots alone: NAME.csv and the plots in the current directory. */
 static void case_plots(void)
 {
@@ -828,6 +916,7 @@ static const struct {
     {"model_csv", case_csv},     {"model_error", case_error},
     {"model_modes", case_modes}, {"model_plots", case_plots},
     {"model_modes_steady", case_modes_steady},
+    {"model_bicycle_modes", case_bicycle_modes},
 };
 
 int main(int argc, char **argv)

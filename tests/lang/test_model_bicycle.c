@@ -21,6 +21,9 @@
  *    weave and capsize speeds where it loses a root's negative real part
  *    (Routh-Hurwitz, bisection) against the published 4.29238253634111
  *    and 6.02426201538837 m/s to 1e-10.
+ *  - eom_linearize_steady (the exact linearization, reduced to lean,
+ *    steer and their rates by the library) against the published
+ *    matrices' system and against the differences above, at 0 .. 10 m/s.
  *  - The non-linear bicycle released with a small lean at 4.6 m/s (in
  *    the self-stable range 4.29 .. 6.02 m/s) recovers upright; at 3 m/s
  *    it falls; the rolling constraints held to 1e-12 and E + W constant
@@ -36,6 +39,7 @@
 
 #include "check.h"
 #include "eom/model_file.h"
+#include "eom/steady.h"
 
 /* LAPACK's general eigenvalue solver */
 extern void dgeev_(const char *jobvl, const char *jobvr, const int *n,
@@ -396,6 +400,49 @@ static void stability(eom_system *s, int kv)
     CHECK_NEAR(vc, 6.02426201538837, 1e-10);
 }
 
+/* The library's own reduction, exact: eom_linearize_steady keeping lean,
+ * steer and their rates. */
+static void steady(eom_system *s, int kv)
+{
+    const int keep[4] = {LEAN, STEER, N + LEAN, N + STEER};
+    double worst = 0.0, worst_fd = 0.0, worst_eig = 0.0, v;
+    int k;
+    for (v = 0.0; v <= 10.0 + 1e-9; v += 0.5) {
+        eom_steady_linear lin;
+        double x0[2 * N], Ab[16], Af[16], rb[4], ib[4];
+        CHECK_INT(eom_set_param(s, kv, v), EOM_OK);
+        CHECK_INT(eom_initial_state(s, x0), EOM_OK);
+        x0[LEAN] = 0.0;
+        if (eom_linearize_steady(s, 0.0, x0, keep, 4, &lin) != EOM_OK) {
+            CHECK_FAIL_("eom_linearize_steady at %g m/s: %s", v,
+                        eom_system_errmsg(s));
+            return;
+        }
+        CHECK_INT(lin.nr, 4);
+        bench_A(v, Ab);
+        model_A(s, kv, v, Af);
+        eig4(Ab, rb, ib);
+        for (k = 0; k < 16 && lin.nr == 4; k++) {
+            worst = fmax(worst, fabs(lin.Ar[k] - Ab[k]) /
+                                    fmax(1.0, fabs(Ab[k])));
+            worst_fd = fmax(worst_fd, fabs(lin.Ar[k] - Af[k]) /
+                                          fmax(1.0, fabs(Af[k])));
+        }
+        for (k = 0; k < 4 && lin.nr == 4; k++)
+            worst_eig = fmax(worst_eig,
+                             hypot(lin.eig_re[k] - rb[k],
+                                   lin.eig_im[k] - ib[k]) /
+                                 fmax(1.0, hypot(rb[k], ib[k])));
+        eom_steady_linear_free(&lin);
+    }
+    printf("bicycle, eom_linearize_steady at 0 .. 10 m/s: against the "
+           "published matrices %.2g (eigenvalues %.2g), against the "
+           "differences %.2g\n", worst, worst_eig, worst_fd);
+    CHECK(worst <= 1e-12);
+    CHECK(worst_eig <= 1e-12);
+    CHECK(worst_fd <= 1e-12);
+}
+
 typedef struct run_stats {
     double dE, res, lean_end, lean_max;
 } run_stats;
@@ -469,6 +516,7 @@ static void bicycle(const char *dir)
     CHECK(kv >= 0 && kg >= 0);
     linearized(s, kv, kg);
     stability(s, kv);
+    steady(s, kv);
     st = ride(s, kv, 4.6);
     CHECK(st.lean_end < 1e-3); /* recovered */
     CHECK(st.dE <= 1e-10);
