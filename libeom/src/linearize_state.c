@@ -13,6 +13,14 @@
  * T is diag(N, N) with N the null space of C, and the eigenvalues of Ar
  * are those of the damped modal problem (Mr s^2 + Dr s + Kr) v = 0 of
  * eom_linearize (tests/eom_integrate/test_jacobian.c checks it).
+ *
+ * A velocity constraint psi = A qd + b has the row phi1 = psi, (dpsi/dq,
+ * A), and a phi0 row of zeros: it removes one dimension (a speed) from
+ * the tangent space where a holonomic constraint removes two, so nz =
+ * 2n - 2 mh - mv for independent rows (tests/eom_constraints/
+ * test_velocity.c: the velocity form of a holonomic constraint keeps its
+ * eigenvalues and adds a zero, the drift along the constraint's level
+ * sets).
  */
 #include <math.h>
 #include <stdlib.h>
@@ -165,8 +173,6 @@ int eom_linearize_state(eom_system *s, double t, const double *x,
         return eom__fail(s, EOM_ERR_NULL,
                          "eom_linearize_state: x or lin is NULL");
     memset(lin, 0, sizeof *lin);
-    if ((rc = eom__refuse_velocity(s, "eom_linearize_state")) != EOM_OK)
-        return rc;
     n2 = 2 * s->n;
     np = s->np;
     m = s->m;

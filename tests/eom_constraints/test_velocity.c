@@ -22,14 +22,16 @@
  * route to gamma, its time terms and the constraint force's work).
  *
  * Checked: the skate's accelerations and multipliers at random states
- * with and without Baumgarte, and a clone's; its trajectory with erk against the closed
- * form, psi and E held; every method that takes velocity rows runs it;
+ * with and without Baumgarte, and a clone's; its trajectory with erk
+ * against the closed form, psi and E held; every method that takes
+ * velocity rows runs it;
  * the two cart forms at random states and times; a model with both
  * kinds of rows projected (q by the holonomic rows only); the exact
  * Jacobian of the state derivative against differences; compiled tapes
- * beside the interpreted psi tape; the refusals
+ * beside the interpreted psi tape; the state-space linearization of a
+ * velocity constraint against the holonomic one; the refusals
  * (a row not linear in the rates or not reading them, ida, sensitivities,
- * the linearizations), bad arguments, a NaN, and redundant velocity
+ * the linearization at rest), bad arguments, a NaN, and redundant velocity
  * rows. */
 #define _POSIX_C_SOURCE 200809L
 
@@ -423,6 +425,52 @@ static void test_cart_forms(void)
     }
 }
 
+/* ---- state-space linearization ---------------------------------------- */
+
+/* The fixed cart at rest, x = th = 0: the holonomic form's reduced
+ * eigenvalues are +-i omega (nz = 2n - 2); the velocity form's (nz =
+ * 2n - 1) are the same and a zero, for the drift along x - l sin th =
+ * const that a velocity constraint does not hold. */
+static void test_linearize_state(void)
+{
+    int moving = 0, k;
+    eom_system *h = cart_new(0, &moving), *v = cart_new(1, &moving);
+    eom_state_linear lh, lv;
+    const double x[4] = {0.0, 0.0, 0.0, 0.0};
+    if (!h || !v) {
+        eom_system_free(&h);
+        eom_system_free(&v);
+        return;
+    }
+    CHECK_INT(eom_linearize_state(h, 0.0, x, &lh), EOM_OK);
+    CHECK_INT(eom_linearize_state(v, 0.0, x, &lv), EOM_OK);
+    CHECK_INT(lh.nz, 2);
+    CHECK_INT(lv.nz, 3);
+    if (lh.nz == 2 && lv.nz == 3) {
+        /* omega^2 = (k l^2 + I g) / (m l^2 + I), from x = l th */
+        const double w =
+            sqrt((CK * CL * CL + CI * CG) / (CM * CL * CL + CI));
+        printf("cart linearized: holonomic %.15g %+.15gi, %.15g %+.15gi; "
+               "velocity", lh.eig_re[0], lh.eig_im[0], lh.eig_re[1],
+               lh.eig_im[1]);
+        for (k = 0; k < 3; k++)
+            printf(" %.3g %+.15gi", lv.eig_re[k], lv.eig_im[k]);
+        printf("\n");
+        CHECK_NEAR(lh.eig_re[0], 0.0, 1e-12);
+        CHECK_NEAR(lh.eig_im[0], -w, 1e-12);
+        CHECK_NEAR(lh.eig_im[1], w, 1e-12);
+        for (k = 0; k < 3; k++)
+            CHECK_NEAR(lv.eig_re[k], 0.0, 1e-12);
+        CHECK_NEAR(lv.eig_im[0], -w, 1e-12);
+        CHECK_NEAR(lv.eig_im[1], 0.0, 1e-12);
+        CHECK_NEAR(lv.eig_im[2], w, 1e-12);
+    }
+    eom_state_linear_free(&lh);
+    eom_state_linear_free(&lv);
+    eom_system_free(&h);
+    eom_system_free(&v);
+}
+
 /* ---- compiled tapes --------------------------------------------------- */
 
 /* The moving cart on compiled tapes (its psi tape stays interpreted)
@@ -666,7 +714,6 @@ static void test_refusals(void)
         eom_opts o;
         eom_integ *it = NULL;
         eom_linear lin;
-        eom_state_linear sl;
         double x[6] = {0.1, 0.2, 0.3, 0.0, 0.0, 0.5}, A[36], q[3];
         int sens = 0;
         eom_opts_default(&o);
@@ -682,7 +729,6 @@ static void test_refusals(void)
         CHECK(strstr(eom_system_errmsg(s), "sensitivities") != NULL);
         CHECK_INT(eom_linearize(s, x, &lin), EOM_ERR_MODEL);
         CHECK(strstr(eom_system_errmsg(s), "velocity") != NULL);
-        CHECK_INT(eom_linearize_state(s, 0.0, x, &sl), EOM_ERR_MODEL);
         memcpy(q, x, sizeof q);
         CHECK_INT(eom_equilibrium(s, q, 1e-10, NULL), EOM_ERR_MODEL);
         /* a non-finite state */
@@ -734,6 +780,7 @@ int main(void)
     test_cart_forms();
     test_state_jacobian();
     test_compiled();
+    test_linearize_state();
     test_mixed_projection();
     test_refusals();
     test_skate_motion();

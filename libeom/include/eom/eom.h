@@ -153,8 +153,8 @@ EOM_API int eom_model_add_constraints(eom_model *m, int count,
  * Their rows of C are A = dpsi/dqd, their gamma is -dpsi/ds along (qd,
  * qdd = 0, t-rate 1), their Baumgarte term -2 alpha psi; they have no
  * position residual (phi = 0) and are projected at the velocity level
- * only. The exact Jacobians (eom_state_jacobian, eom_param_jacobian)
- * include them; eom_linearize, eom_linearize_state, eom_equilibrium, ida
+ * only. The exact Jacobians (eom_state_jacobian, eom_param_jacobian) and
+ * eom_linearize_state include them; eom_linearize, eom_equilibrium, ida
  * and sensitivities refuse a model with them (EOM_ERR_MODEL). The psi
  * tape is never compiled (eom_system_set_compiled). */
 EOM_API int eom_model_add_velocity_constraints(eom_model *m, int count,
@@ -449,9 +449,10 @@ EOM_API void eom_linear_free(eom_linear *lin);
  * (2n x np, every parameter in index order), exact, with the forces Q,
  * the gyroscopic, dissipation and constraint forces and the Baumgarte
  * terms (eom_state_jacobian, eom_param_jacobian). With constraints the
- * perturbations that keep phi = 0 and dphi/dt = 0 are dx = T z, T
- * (2n x nz) an orthonormal basis (from one SVD; redundant constraints are
- * allowed); Ar = T^T A T (nz x nz) and Br = T^T B (nz x np) are the
+ * perturbations that keep phi = 0 and dphi/dt = 0 (and psi = 0 for
+ * velocity constraints, which remove one dimension each, not two) are
+ * dx = T z, T (2n x nz) an orthonormal basis (from one SVD; redundant
+ * constraints are allowed); Ar = T^T A T (nz x nz) and Br = T^T B (nz x np) are the
  * reduced matrices, and eig_re, eig_im the eigenvalues of Ar sorted by
  * real, then imaginary part. Without constraints T is the identity and
  * Ar = A. All matrices row-major. On failure *lin is zeroed. Free with
