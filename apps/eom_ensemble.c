@@ -27,6 +27,7 @@
 #include "demos/file_demo.h"
 #include "ensemble_pool.h"
 #include "ensemble_runs.h"
+#include "ensemble_summary.h"
 #ifdef EOM_ENSEMBLE_MPI
 #include "ensemble_mpi.h"
 #endif
@@ -215,120 +216,100 @@ static int parse(int argc, char **argv, cli *c)
     return 0;
 }
 
-/* ---- the summary ------------------------------------------------------- */
+/* ---- the inputs record (ensemble_summary.h) --------------------------- */
 
-static void put_num(FILE *f, double v)
+/* "KEY VALUE\n" for every input that changes a run's numbers: the model,
+ * the runs, --set and the integration options. A new string (the caller
+ * frees it), or NULL after a message. */
+static char *inputs_record(const cli *c, const demo *d, const char *model)
 {
-    char buf[32];
-    eom_numtext_format(buf, sizeof buf, v);
-    fputs(buf, f);
-}
-
-/* The message as a quoted CSV field. */
-static void put_text(FILE *f, const char *s)
-{
-    fputc('"', f);
-    for (; *s; s++) {
-        if (*s == '"')
-            fputc('"', f);
-        fputc(*s == '\n' ? ' ' : *s, f);
-    }
-    fputc('"', f);
-}
-
-static void header(FILE *f, const ensemble_runs *runs, const eom_system *s,
-                   char *buf, size_t len)
-{
-    const int n = eom_system_ncoords(s);
-    size_t k = 0;
+    char digest[72], err[4096], num[32];
+    size_t k = 0, cap = 4096;
+    char *rec = malloc(cap);
     int i;
-#define ADD(...)                                                            \
-    do {                                                                    \
-        int w_ = snprintf(buf + k, k < len ? len - k : 0, __VA_ARGS__);     \
-        k += w_ > 0 ? (size_t)w_ : 0;                                       \
+#define PUT(...)                                                           \
+    do {                                                                   \
+        int w_;                                                            \
+        while (rec &&                                                      \
+               (size_t)(w_ = snprintf(rec + k, cap - k, __VA_ARGS__)) >=   \
+                   cap - k) {                                              \
+            char *p_ = realloc(rec, 2 * cap + (size_t)w_);                 \
+            if (!p_) {                                                     \
+                free(rec);                                                 \
+                rec = NULL;                                                \
+            } else {                                                       \
+                rec = p_;                                                  \
+                cap = 2 * cap + (size_t)w_;                                \
+            }                                                              \
+        }                                                                  \
+        if (rec)                                                           \
+            k += (size_t)w_;                                               \
     } while (0)
-    ADD("run");
-    for (i = 0; i < runs->ncols; i++)
-        ADD(",%s", runs->names[i]);
-    ADD(",status");
-    for (i = 0; i < n; i++)
-        ADD(",final_%s", eom_coord_name(s, i));
-    for (i = 0; i < n; i++)
-        ADD(",final_%s_dot", eom_coord_name(s, i));
-    ADD(",E0,energy_error,residual,steps,rhs_evals,wall_time,message\n");
-#undef ADD
-    if (f)
-        fputs(buf, f);
-}
-
-static void row(FILE *f, const ensemble_runs *runs, long i, int n,
-                const run_result *r)
-{
-    int k;
-    fprintf(f, "%ld", i);
-    for (k = 0; k < runs->ncols; k++) {
-        fputc(',', f);
-        put_num(f, runs->v[i * runs->ncols + k]);
-    }
-    fputs(r->ok ? ",ok" : ",failed", f);
-    for (k = 0; k < 2 * n; k++) {
-        fputc(',', f);
-        put_num(f, r->final ? r->final[k] : NAN);
-    }
-    fputc(',', f);
-    put_num(f, r->E0);
-    fputc(',', f);
-    put_num(f, r->energy_error);
-    fputc(',', f);
-    put_num(f, r->residual);
-    fprintf(f, ",%ld,%ld,", r->steps, r->rhs);
-    put_num(f, r->wall);
-    fputc(',', f);
-    put_text(f, r->msg);
-    fputc('\n', f);
-}
-
-/* --resume: the runs already in the summary at path (its header must be
- * this ensemble's); a line cut short by an interruption is dropped.
- * Returns the file opened for appending, or NULL after a message. */
-static FILE *resume(const char *path, const char *want, long nruns,
-                    unsigned char *skip, long *ndone)
-{
-    FILE *f = fopen(path, "r+");
-    char *line = NULL;
-    size_t cap = 0;
-    ssize_t len;
-    long keep = 0, i;
-    *ndone = 0;
-    if (!f)
-        return fopen(path, "w");
-    if ((len = getline(&line, &cap, f)) <= 0 || strcmp(line, want) != 0) {
-        fprintf(stderr, "eom-ensemble: --resume: '%s' is not the summary "
-                "of this ensemble (its header differs)\n", path);
-        free(line);
-        fclose(f);
-        return NULL;
-    }
-    keep = (long)len;
-    while ((len = getline(&line, &cap, f)) > 0) {
-        if (line[len - 1] != '\n')
-            break; /* cut short: rewritten below */
-        i = strtol(line, NULL, 10);
-        if (i >= 0 && i < nruns && !skip[i]) {
-            skip[i] = 1;
-            (*ndone)++;
+#define PUTNUM(key, v)                                                     \
+    do {                                                                   \
+        eom_numtext_format(num, sizeof num, (v));                          \
+        PUT("%s %s\n", (key), num);                                        \
+    } while (0)
+    PUT("autoeom-ensemble-inputs 1\n");
+    if (d->data) { /* a model file: what it holds, wherever it is */
+        char shipped[4096];
+        const size_t ml = strlen(model);
+        /* a shipped model's name, as demo_resolve finds it */
+        if (!strchr(model, '/') &&
+            !(ml > 4 && strcmp(model + ml - 4, ".eom") == 0) &&
+            file_demo_shipped(model, shipped, sizeof shipped) == 0)
+            model = shipped;
+        if (ensemble_file_digest(model, digest, err, sizeof err) != 0) {
+            fprintf(stderr, "eom-ensemble: %s\n", err);
+            free(rec);
+            return NULL;
         }
-        keep += (long)len;
+        PUT("model %s\n", digest);
+    } else {
+        PUT("model demo:%s\n", d->name);
     }
-    free(line);
-    if (fflush(f) != 0 || ftruncate(fileno(f), keep) != 0 ||
-        fseek(f, keep, SEEK_SET) != 0) {
-        fprintf(stderr, "eom-ensemble: --resume: cannot append to '%s'\n",
-                path);
-        fclose(f);
-        return NULL;
+    if (c->runs) {
+        if (ensemble_file_digest(c->runs, digest, err, sizeof err) != 0) {
+            fprintf(stderr, "eom-ensemble: %s\n", err);
+            free(rec);
+            return NULL;
+        }
+        PUT("--runs %s\n", digest);
+    } else {
+        PUT("--runs none\n");
     }
-    return f;
+    PUT("--sweep");
+    for (i = 0; i < c->nsweeps; i++)
+        PUT(" %s", c->sweeps[i]);
+    PUT("%s\n", c->nsweeps ? "" : " none");
+    PUT("--random");
+    for (i = 0; i < c->ndists; i++)
+        PUT(" %s", c->dists[i]);
+    PUT("%s\n", c->ndists ? "" : " none");
+    if (c->ndists) {
+        PUT("--count %ld\n", c->count);
+        PUT("--seed %llu\n", c->seed);
+    }
+    PUT("--set");
+    for (i = 0; i < c->nsets; i++) {
+        eom_numtext_format(num, sizeof num, c->sets[i].value);
+        PUT(" %.*s=%s", (int)c->sets[i].namelen, c->sets[i].arg, num);
+    }
+    PUT("%s\n", c->nsets ? "" : " none");
+    PUTNUM("--t-end", c->t_end);
+    PUTNUM("--sample", c->sample);
+    PUT("--integrator %s\n", eom_method_name(c->opts.method));
+    PUTNUM("--dt", c->opts.dt);
+    PUTNUM("--rtol", c->opts.rtol);
+    PUTNUM("--atol", c->opts.atol);
+    PUT("--max-steps %ld\n", c->opts.max_steps);
+    PUT("--no-project %s\n", c->opts.project ? "no" : "yes");
+    PUT("--compiled %s\n", c->compiled ? "yes" : "no");
+#undef PUTNUM
+#undef PUT
+    if (!rec)
+        fprintf(stderr, "eom-ensemble: out of memory\n");
+    return rec;
 }
 
 static double now(void)
@@ -384,7 +365,7 @@ static int run(cli *c, const demo *d)
     pthread_t *th = NULL;
     unsigned char *skip = NULL;
     double *settings = NULL, *x0 = NULL, *p0 = NULL, t0;
-    char err[4096], *head = NULL;
+    char err[4096], *head = NULL, *inputs = NULL;
     long i, ndone = 0, failed = 0, written = 0;
     int status = EXIT_RUN, n, k, started = 0, tty, active = g_size - 1;
 #ifdef EOM_ENSEMBLE_MPI
@@ -441,8 +422,7 @@ static int run(cli *c, const demo *d)
     skip = calloc((size_t)runs.nruns, 1);
     job.res = calloc((size_t)runs.nruns, sizeof *job.res);
     th = calloc((size_t)c->threads, sizeof *th);
-    head = malloc(65536);
-    if (!x0 || !p0 || !skip || !job.res || !th || !head) {
+    if (!x0 || !p0 || !skip || !job.res || !th) {
         fprintf(stderr, "eom-ensemble: out of memory\n");
         goto done;
     }
@@ -454,23 +434,26 @@ static int run(cli *c, const demo *d)
     }
     for (k = 0; k < eom_system_nparams(s); k++)
         p0[k] = eom_get_param(s, k);
-    header(NULL, &runs, s, head, 65536);
+    head = ensemble_summary_header(&runs, s);
+    if (!head) {
+        fprintf(stderr, "eom-ensemble: out of memory\n");
+        goto done;
+    }
     if (c->traj && mkdir(c->traj, 0777) != 0 && access(c->traj, W_OK) != 0) {
         fprintf(stderr, "eom-ensemble: --trajectories: cannot write to "
                 "'%s'\n", c->traj);
         goto done;
     }
     if (g_rank == 0) {
-        f = c->resume ? resume(c->out, head, runs.nruns, skip, &ndone)
-                      : fopen(c->out, "w");
-        if (!f) {
-            if (!c->resume)
-                fprintf(stderr, "eom-ensemble: cannot write '%s'\n",
-                        c->out);
+        /* locked until the end; with --resume, checked against this
+         * ensemble's inputs and runs */
+        inputs = inputs_record(c, d, c->model);
+        if (!inputs)
             goto done;
-        }
-        if (ftell(f) == 0)
-            fputs(head, f);
+        f = ensemble_summary_open(c->out, c->resume, head, inputs, &runs, n,
+                                  skip, &ndone);
+        if (!f)
+            goto done;
     }
 
     job.base = s;
@@ -513,7 +496,7 @@ static int run(cli *c, const demo *d)
         if (skip[i])
             continue;
         wait_for(&job, i, &active);
-        row(f, &runs, i, n, &job.res[i]);
+        ensemble_summary_row(f, &runs, i, n, &job.res[i]);
         failed += !job.res[i].ok;
         written++;
         free(job.res[i].final);
@@ -571,6 +554,7 @@ done:
     free(th);
     free(skip);
     free(head);
+    free(inputs);
     free(settings);
     free(x0);
     free(p0);

@@ -206,6 +206,21 @@ static void case_resume(void)
             fclose(f);
     }
     free(text);
+    {
+        /* the record of the inputs goes with the summary */
+        char from[320], to[320];
+        snprintf(from, sizeof from, "%s.inputs", full);
+        snprintf(to, sizeof to, "%s.inputs", part);
+        text = read_file(from, NULL);
+        CHECK(text != NULL);
+        f = fopen(to, "w");
+        CHECK(f != NULL);
+        if (f && text)
+            fputs(text, f);
+        if (f)
+            fclose(f);
+        free(text);
+    }
     args[6] = part;
     args[7] = "--resume";
     run(&r, args);
@@ -221,7 +236,8 @@ static void case_resume(void)
     args[2] = "m2=0.5:2:6";
     run(&r, args);
     CHECK_INT(r.status, 1);
-    CHECK_HAS(r.err, "header differs");
+    CHECK_HAS(r.err, "other inputs: --sweep (m1=0.5:2:6 there, "
+                     "m2=0.5:2:6 now)");
     result_free(&r);
 }
 

@@ -208,10 +208,289 @@ static void case_out_input(void)
     cli_program = eom_run_path;
 }
 
+/* ---- eom-ensemble's summary ------------------------------------------ */
+
+/* Run eom-ensemble with args; its exit status, r kept for the caller. */
+static int ensemble(result *r, const char *const *args)
+{
+    cli_program = ensemble_path;
+    run(r, args);
+    cli_program = eom_run_path;
+    return r->status;
+}
+
+/* --resume with an option, the model or the seed changed is refused with
+ * a message naming what changed, and the summary is left alone. */
+static void case_resume_inputs(void)
+{
+    char model[300], out[300], src[PATH_MAX + 40], *orig, *before;
+    const char *base[] = {model, "--sweep", "k=50:100:3", "--t-end", "0.2",
+                          "-q", "--out", out, NULL};
+    result r;
+    snprintf(src, sizeof src, "%s/spring-pendulum.eom", models);
+    orig = read_file(src, NULL);
+    CHECK(orig != NULL);
+    if (!orig)
+        return;
+    scratch(model, sizeof model, "m.eom");
+    scratch(out, sizeof out, "sum.csv");
+    write_text(model, orig);
+    CHECK_INT(ensemble(&r, base), 0);
+    result_free(&r);
+    before = read_file(out, NULL);
+    {
+        const char *a[] = {model, "--sweep", "k=50:100:3", "--t-end", "0.3",
+                           "-q", "--out", out, "--resume", NULL};
+        CHECK_INT(ensemble(&r, a), 1);
+        CHECK_HAS(r.err, "was made by other inputs: --t-end (0.2 there, "
+                         "0.3 now)");
+        result_free(&r);
+    }
+    {
+        const char *a[] = {model, "--sweep", "k=50:100:3", "--t-end", "0.2",
+                           "--integrator", "erk", "-q", "--out", out,
+                           "--resume", NULL};
+        CHECK_INT(ensemble(&r, a), 1);
+        CHECK_HAS(r.err, "--integrator (rk4 there, erk now)");
+        result_free(&r);
+    }
+    {
+        const char *a[] = {model, "--sweep", "k=50:100:3", "--t-end", "0.2",
+                           "--set", "m=2", "-q", "--out", out, "--resume",
+                           NULL};
+        CHECK_INT(ensemble(&r, a), 1);
+        CHECK_HAS(r.err, "--set (none there, m=2 now)");
+        result_free(&r);
+    }
+    /* the same file name, other contents */
+    {
+        FILE *f = fopen(model, "a");
+        CHECK(f != NULL);
+        if (f) {
+            fputs("# edited\n", f);
+            fclose(f);
+        }
+    }
+    {
+        const char *a[] = {model, "--sweep", "k=50:100:3", "--t-end", "0.2",
+                           "-q", "--out", out, "--resume", NULL};
+        CHECK_INT(ensemble(&r, a), 1);
+        CHECK_HAS(r.err, "model (its contents differ)");
+        result_free(&r);
+    }
+    {
+        char *now = read_file(out, NULL);
+        CHECK(before && now && strcmp(before, now) == 0);
+        free(now);
+    }
+    free(before);
+    /* random runs: another seed */
+    {
+        const char *a[] = {"spring-pendulum", "--random", "k=uniform:50:100",
+                           "--count", "3", "--seed", "1", "--t-end", "0.1",
+                           "-q", "--out", out, NULL, NULL};
+        CHECK_INT(ensemble(&r, a), 0);
+        result_free(&r);
+        a[6] = "2";
+        a[12] = "--resume";
+        CHECK_INT(ensemble(&r, a), 1);
+        CHECK_HAS(r.err, "--seed (1 there, 2 now)");
+        result_free(&r);
+    }
+    free(orig);
+}
+
+/* Replace line k (from 1) of path by repl. */
+static void replace_line(const char *path, int k, const char *repl)
+{
+    char *text = read_file(path, NULL), *p, *e;
+    int i;
+    FILE *f;
+    CHECK(text != NULL);
+    if (!text)
+        return;
+    for (p = text, i = 1; i < k && p; i++) {
+        p = strchr(p, '\n');
+        p = p ? p + 1 : NULL;
+    }
+    e = p ? strchr(p, '\n') : NULL;
+    CHECK(p && e);
+    f = fopen(path, "w");
+    if (f && p && e) {
+        fwrite(text, 1, (size_t)(p - text), f);
+        fputs(repl, f);
+        fputs(e, f);
+    }
+    if (f)
+        fclose(f);
+    free(text);
+}
+
+/* Rows already in the summary that are not this ensemble's rows are
+ * refused, naming the line; the valid summary resumes. */
+static void case_resume_garbage(void)
+{
+    char out[300], *good, line2[4096];
+    const char *a[] = {"spring-pendulum", "--sweep", "k=50:100:3", "--t-end",
+                       "0.1", "-q", "--out", out, NULL, NULL};
+    static const char *const bad[] = {
+        "garbage",
+        "7,50,ok,1,2,3,4,5,6,7,8,9,10,\"\"",
+        "0,51,ok,1,2,3,4,5,6,7,8,9,10,\"\"",
+        "0,50,maybe,1,2,3,4,5,6,7,8,9,10,\"\"",
+        "0,50,ok,1,2,x,4,5,6,7,8,9,10,\"\"",
+        "0,50,ok,1,2,3,4,5,6,7,8.5,9,10,\"\"",
+        "0,50,ok,1,2,3,4,5,6,7,8,9,10,\"a\"b\"",
+        "0,50,ok,1,2,3,4,5,6,7,8,9,10",
+        "0,50,ok,1,2,3,4,5,6,7,8,9,10,\"\",extra",
+    };
+    size_t k;
+    result r;
+    scratch(out, sizeof out, "sum.csv");
+    CHECK_INT(ensemble(&r, a), 0);
+    result_free(&r);
+    good = read_file(out, NULL);
+    CHECK(good != NULL);
+    if (!good)
+        return;
+    {
+        const char *p = strchr(good, '\n');
+        const char *e = p ? strchr(p + 1, '\n') : NULL;
+        CHECK(p && e && (size_t)(e - p) < sizeof line2);
+        if (!p || !e)
+            return;
+        memcpy(line2, p + 1, (size_t)(e - p - 1));
+        line2[e - p - 1] = '\0';
+    }
+    a[8] = "--resume";
+    for (k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        write_text(out, good);
+        replace_line(out, 2, bad[k]);
+        CHECK_INT(ensemble(&r, a), 1);
+        check_count_++;
+        if (!has(r.err, "line 2 is not a row of this ensemble"))
+            CHECK_FAIL_("bad row '%s' not refused:\n%s", bad[k], r.err);
+        result_free(&r);
+    }
+    /* run 1's row twice */
+    write_text(out, good);
+    replace_line(out, 3, line2);
+    CHECK_INT(ensemble(&r, a), 1);
+    CHECK_HAS(r.err, "line 3 is not a row of this ensemble: run 0 appears "
+                     "twice");
+    result_free(&r);
+    /* the summary as written resumes, with nothing to do */
+    write_text(out, good);
+    CHECK_INT(ensemble(&r, a), 0);
+    result_free(&r);
+    CHECK(holds(out, good));
+    free(good);
+}
+
+/* Two ensembles on one summary: the second is refused at once while the
+ * first holds the summary's lock. */
+static void case_resume_lock(void)
+{
+    char model[PATH_MAX + 32], out[300];
+    const char *args[] = {ensemble_path, model, "--sweep", "th1=0.5:2.5:40",
+                          "--t-end", "10", "--integrator", "erk", "--rtol",
+                          "1e-11", "--atol", "1e-13", "--threads", "1",
+                          "-q", "--out", out, NULL};
+    pid_t pid;
+    int k, st;
+    long long size = -1;
+    result r;
+    snprintf(model, sizeof model, "%s/double-pendulum.eom", models);
+    scratch(out, sizeof out, "sum.csv");
+    fflush(NULL);
+    pid = fork();
+    if (pid == 0) {
+        execv(ensemble_path, (char *const *)(void *)args);
+        _exit(127);
+    }
+    CHECK(pid > 0);
+    for (k = 0; k < 500 && size <= 0; k++) { /* the header is out */
+        nap_ms(10);
+        size = first_with_prefix("sum.csv");
+    }
+    CHECK(size > 0);
+    {
+        const char *a[] = {model, "--sweep", "th1=0.5:2.5:40", "--t-end",
+                           "10", "--integrator", "erk", "--rtol", "1e-11",
+                           "--atol", "1e-13", "--threads", "1", "-q",
+                           "--out", out, "--resume", NULL};
+        CHECK_INT(ensemble(&r, a), 1);
+        CHECK_HAS(r.err, "is being written by another eom-ensemble");
+        result_free(&r);
+        a[16] = NULL; /* nor a fresh ensemble on the same file */
+        CHECK_INT(ensemble(&r, a), 1);
+        CHECK_HAS(r.err, "is being written by another eom-ensemble");
+        result_free(&r);
+    }
+    CHECK(waitpid(pid, &st, WNOHANG) == 0); /* the first still runs */
+    kill(pid, SIGKILL);
+    waitpid(pid, &st, 0);
+}
+
+/* A summary header far beyond 64 KiB (2000 coordinates with long names)
+ * is written whole, and the summary resumes. */
+static void case_summary_wide(void)
+{
+    static const char name[] =
+        "a_coordinate_with_a_rather_long_name_for_the_summary_header";
+    char model[300], out[300], *text, *first;
+    const char *a[] = {model, "--sweep", "k=1:2:2", "--t-end", "0", "-q",
+                       "--out", out, NULL, NULL};
+    FILE *f;
+    result r;
+    int cols = 1, lines = 0;
+    const char *p;
+    scratch(model, sizeof model, "wide.eom");
+    scratch(out, sizeof out, "wide.csv");
+    /* the system's workspaces for 2000 coordinates come to about 1.4 GB
+     * of allocations it never touches at t_end = 0; meson's
+     * MALLOC_PERTURB_ would fill them all (4 s a run) */
+    unsetenv("MALLOC_PERTURB_");
+    f = fopen(model, "w");
+    CHECK(f != NULL);
+    if (!f)
+        return;
+    fprintf(f, "param k = 1 [N/m]\nparam m = 1 [kg]\n"
+               "coord %s[j in 1..2000] = 0.001*j [m]\n"
+               "T = sum(j in 1..2000, 1/2*m*%s_dot[j]^2)\n"
+               "V = sum(j in 1..2000, 1/2*k*%s[j]^2)\n",
+            name, name, name);
+    fclose(f);
+    CHECK_INT(ensemble(&r, a), 0);
+    result_free(&r);
+    text = read_file(out, NULL);
+    CHECK(text != NULL);
+    if (!text)
+        return;
+    for (p = text; *p && *p != '\n'; p++)
+        cols += *p == ',';
+    for (p = text; *p; p++)
+        lines += *p == '\n';
+    CHECK_INT(cols, 1 + 1 + 1 + 4000 + 7);
+    CHECK_INT(lines, 3);
+    first = strchr(text, '\n');
+    CHECK(first && strncmp(first + 1, "0,1,ok,", 7) == 0);
+    CHECK(strlen(text) > 4 * 65536);
+    a[8] = "--resume";
+    CHECK_INT(ensemble(&r, a), 0);
+    result_free(&r);
+    CHECK(holds(out, text));
+    free(text);
+}
+
 static const struct {
     const char *name;
     void (*fn)(void);
 } cases[] = {
+    {"resume_inputs", case_resume_inputs},
+    {"resume_garbage", case_resume_garbage},
+    {"resume_lock", case_resume_lock},
+    {"summary_wide", case_summary_wide},
     {"out_kill", case_out_kill},
     {"out_failure", case_out_failure},
     {"out_input", case_out_input},
