@@ -527,7 +527,25 @@ int eom__integ_create(eom_integ **out, eom_system *s, const eom_opts *o,
     it->svd_base = s->n_svd;
     it->refuse_singular =
         s->m > 0 && (o->method == EOM_ADAMS || o->method == EOM_IDA);
-    rc = s->m > 0 && o->n_sens > 0 ? sens_start(it) : EOM_OK;
+    rc = EOM_OK;
+    if (fresh && s->m > 0 && o->project) {
+        /* a start off the constraints is taken onto them here, by the
+         * least change of the coordinates, whatever the method: each
+         * method's own handling of it differed (rk4, erk, esdirk and imex
+         * projected after the first step in the M-norm, adams and ida
+         * integrated another motion). A start within proj_tol is left
+         * as it is. */
+        int iters = 0;
+        rc = eom_project_start(s, it->y, o->proj_tol, &iters);
+        if (rc != EOM_OK)
+            snprintf(it->msg, sizeof it->msg, "the start is off the "
+                     "constraints and cannot be projected onto them: %s",
+                     s->msg);
+        else if (iters > 0)
+            it->st.projections++;
+    }
+    if (rc == EOM_OK && s->m > 0 && o->n_sens > 0)
+        rc = sens_start(it);
     if (rc == EOM_OK)
         rc = it->ops->init(it);
     if (rc == EOM_OK && fresh && it->refuse_singular) {

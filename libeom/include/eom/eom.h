@@ -509,9 +509,11 @@ typedef struct eom_opts {
     double rtol, atol; /* adaptive methods */
     long max_steps;   /* per call of eom_integ_advance (default 1e7) */
     int project;      /* project onto the constraints (default 1; ignored
-                         without constraints): after each step with rk4,
-                         erk and bdf, at each requested time with adams
-                         and ida (docs/integrators.md) */
+                         without constraints): the start, when it is off
+                         them by more than proj_tol, by eom_integ_new with
+                         every method (eom_project_start); then after each
+                         step with rk4, erk and bdf, at each requested
+                         time with adams and ida (docs/integrators.md) */
     double proj_tol;  /* projection tolerance on |phi| (default 1e-12) */
     const double *atol_vec; /* adaptive methods: NULL (default) for atol on
                                every component, or 2n absolute tolerances
