@@ -803,6 +803,10 @@ const char *eom_system_errmsg(const eom_system *s)
 
 int eom_system_ncoords(const eom_system *s) { return s ? s->n : 0; }
 int eom_system_nconstraints(const eom_system *s) { return s ? s->m : 0; }
+int eom_system_nvelocity_constraints(const eom_system *s)
+{
+    return s ? s->mv : 0;
+}
 int eom_system_nparams(const eom_system *s) { return s ? s->np : 0; }
 int eom_system_nprobes(const eom_system *s) { return s ? s->nprobe : 0; }
 int eom_system_has_tv(const eom_system *s) { return s && s->has_tv; }

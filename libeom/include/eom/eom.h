@@ -273,6 +273,8 @@ EOM_API int eom_system_compiled(const eom_system *s);
 EOM_API int eom_system_ncoords(const eom_system *s);
 /* Constraint rows m: the holonomic ones, then the velocity ones. */
 EOM_API int eom_system_nconstraints(const eom_system *s);
+/* Of them, the velocity (non-holonomic) rows, the last ones. */
+EOM_API int eom_system_nvelocity_constraints(const eom_system *s);
 EOM_API int eom_system_nparams(const eom_system *s);
 EOM_API int eom_system_nprobes(const eom_system *s);
 /* 1 if T and V were given separately (so both are reported), else 0. */
