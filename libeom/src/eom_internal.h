@@ -168,6 +168,9 @@ typedef struct eom_shared {
 } eom_shared;
 
 struct eom_system {
+    atomic_int busy;  /* 1 while eom_rhs runs on it: a second thread that
+                         enters meanwhile gets EOM_ERR_BUSY (a system is
+                         for one thread at a time) */
     int n, m, np, nprobe;
     int mh, mv;       /* holonomic and velocity rows, m = mh + mv */
     bool has_tv, has_R, has_Q;

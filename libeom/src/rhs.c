@@ -499,19 +499,28 @@ int eom__evaluate(eom_system *s, double t, const double *x)
     return EOM_OK;
 }
 
+/* One thread at a time: eom_rhs marks s busy for the duration of the
+ * call (one uncontended atomic exchange and one store, about 4
+ * instructions against 3000 for the smallest model: docs/libeom.md). A
+ * second thread that enters meanwhile touches nothing of s, not even its
+ * message (which the first thread owns): it returns EOM_ERR_BUSY, whose
+ * text (eom_strerror) says what to do. */
 int eom_rhs(eom_system *s, double t, const double *x, double *xd)
 {
     int rc;
     if (!s)
         return EOM_ERR_NULL;
-    if (!x || !xd)
-        return eom__fail(s, EOM_ERR_NULL, "eom_rhs: x or xd is NULL");
-    if ((rc = eom__evaluate(s, t, x)) != EOM_OK)
-        return rc;
-    memmove(xd, x + s->n, (size_t)s->n * sizeof(double));
-    memcpy(xd + s->n, s->qdd, (size_t)s->n * sizeof(double));
-    s->msg[0] = '\0';
-    return EOM_OK;
+    if (atomic_exchange_explicit(&s->busy, 1, memory_order_acquire))
+        return EOM_ERR_BUSY;
+    if (!x || !xd) {
+        rc = eom__fail(s, EOM_ERR_NULL, "eom_rhs: x or xd is NULL");
+    } else if ((rc = eom__evaluate(s, t, x)) == EOM_OK) {
+        memmove(xd, x + s->n, (size_t)s->n * sizeof(double));
+        memcpy(xd + s->n, s->qdd, (size_t)s->n * sizeof(double));
+        s->msg[0] = '\0';
+    }
+    atomic_store_explicit(&s->busy, 0, memory_order_release);
+    return rc;
 }
 
 int eom_mass_matrix(eom_system *s, const double *x, double *M)

@@ -70,6 +70,8 @@ extern "C" {
     X(EOM_ERR_NOT_CONVERGED, -13, "an iteration did not converge")            \
     X(EOM_ERR_FILE, -14, "a model file cannot be read or is not valid (the "   \
                          "message gives file:line:col)")                       \
+    X(EOM_ERR_BUSY, -15, "the system is in use by another thread at the same " \
+                         "time: give each thread its own (eom_system_clone)")  \
     X(EOM_WARN_INTERPRETED, 1, "compiled tapes are not in use: the "           \
                                "interpreter runs the model (the message says " \
                                "why)")
