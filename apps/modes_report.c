@@ -91,6 +91,12 @@ int modes_report(FILE *f, eom_system *s, const double *x0,
         free(q);
         return modes_steady_report(f, s, x0, NULL, 0, label);
     }
+    if (rc == EOM_ERR_MODEL) {
+        fprintf(stderr, "eom-run: %s: no static equilibrium to search: "
+                "%s\n", label, eom_system_errmsg(s));
+        free(q);
+        return 1;
+    }
     if (rc != EOM_OK) {
         fprintf(stderr, "eom-run: %s: no static equilibrium found from %s: "
                 "%s\n", label, origin, eom_system_errmsg(s));
@@ -98,6 +104,25 @@ int modes_report(FILE *f, eom_system *s, const double *x0,
         return 1;
     }
     rc = eom_linearize(s, q, &lin);
+    if (rc == EOM_ERR_MODEL && strstr(eom_system_errmsg(s), "unsymmetric")) {
+        /* a circulatory force: no undamped frequencies; the eigenvalues
+         * of the state matrix about the equilibrium at rest instead */
+        double *x = calloc(2 * (size_t)n, sizeof(double));
+        if (!x) {
+            fprintf(stderr, "eom-run: out of memory\n");
+            free(q);
+            return 1;
+        }
+        memcpy(x, q, (size_t)n * sizeof(double));
+        fprintf(f, "%s: static equilibrium found from %s in %d Newton "
+                "step%s; the forces' stiffness is unsymmetric (no undamped "
+                "frequencies):\n", label, origin, iters,
+                iters == 1 ? "" : "s");
+        rc = modes_steady_report(f, s, x, NULL, 0, label);
+        free(x);
+        free(q);
+        return rc;
+    }
     if (rc != EOM_OK) {
         fprintf(stderr, "eom-run: %s: cannot linearize about the "
                 "equilibrium: %s\n", label, eom_system_errmsg(s));
@@ -106,9 +131,9 @@ int modes_report(FILE *f, eom_system *s, const double *x0,
     }
     fprintf(f, "%s: static equilibrium found from %s in %d Newton step%s\n"
             "(tolerance %g on the unbalanced generalized forces and on "
-            "|phi|; gravity and\nsprings only: dampers do not act at "
-            "rest)\n\n", label, origin, iters, iters == 1 ? "" : "s",
-            MODES_EQ_TOL);
+            "|phi|: the potential,\nthe constraints and every force at "
+            "rest; dampers do not act at rest)\n\n", label, origin, iters,
+            iters == 1 ? "" : "s", MODES_EQ_TOL);
     print_coords(f, s, q);
     fputc('\n', f);
     print_frequencies(f, &lin);

@@ -1,14 +1,18 @@
 /* equilibrium.c - static equilibrium: q and multipliers lambda with
  *
- *     r_q   = dL/dq(q, 0) + C(q)^T lambda = 0      (n)
- *     r_phi = phi(q)                     = 0      (m)
+ *     r_q   = dL/dq(q, 0) + Q(q, 0) + C(q)^T lambda = 0      (n)
+ *     r_phi = phi(q)                               = 0      (m)
  *
- * (for L = T - V, dV/dq - C^T lambda = 0), by Newton's method on the KKT
- * system, with H = d2L/dq2 at qd = 0 (so H + sum lambda Hphi = -K of
- * linearize.c):
+ * (for L = T - V, dV/dq - Q - C^T lambda = 0), by Newton's method on the
+ * KKT system, with H = d2L/dq2 at qd = 0 and P = dQ/dq(q, 0) (so H + P +
+ * sum lambda Hphi = -K of linearize.c):
  *
- *     [ H + sum_k lambda_k d2phi_k/dq2   C^T ] [dq     ]     [r_q  ]
- *     [ C                                0   ] [dlambda] = - [r_phi]
+ *     [ H + P + sum_k lambda_k d2phi_k/dq2   C^T ] [dq     ]     [r_q  ]
+ *     [ C                                    0   ] [dlambda] = - [r_phi]
+ *
+ * Q is every generalized force the model declares, at qd = 0
+ * (forces_rest.c); P may be unsymmetric (a follower load), which the SVD
+ * solve below does not mind.
  *
  * Robustness, in order of use:
  *   - the first lambda is the least-squares balance of dL/dq at the guess,
@@ -26,17 +30,17 @@
  * The iteration stops when max |r| <= tol (r_q and r_phi in their own
  * units), and fails with EOM_ERR_NOT_CONVERGED after EOM_EQ_MAXIT steps or
  * when no step decreases the residual. Any equilibrium may be found,
- * stable or not; eom_linearize tells which. Generalized forces Q and the
- * dissipation play no part: Q may depend on t and qd, and R vanishes at
- * rest. A model whose Lagrangian, dissipation or constraints read the
- * time has no state of rest and is refused (EOM_ERR_MODEL). See
- * docs/linearization.md.
+ * stable or not; eom_linearize tells which. The dissipation plays no
+ * part (R's gradient vanishes at rest). A model whose Lagrangian,
+ * dissipation, constraints or forces read the time has no state of rest
+ * and is refused (EOM_ERR_MODEL). See docs/linearization.md.
  */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "eom_internal.h"
+#include "forces_rest.h"
 
 #define EOM_EQ_MAXIT 50
 #define EOM_EQ_MAXHALF 40
@@ -50,6 +54,9 @@ typedef struct eq_work {
     double *x;    /* 2n  (q, 0) */
     double *g;    /* 2n  gradient of L at x */
     double *H;    /* 2n x n  Hessian columns of L on q */
+    double *Q;    /* n  the forces at rest, Q(q, 0) */
+    double *P;    /* n x n  dQ/dq at (q, 0) */
+    double *xq;   /* 2n  scratch of the force sweeps */
     double *eye;  /* n x n  identity */
     double *Hphi; /* n x n  sum_k lambda_k d2phi_k/dq2 */
     double *lam;  /* m */
@@ -72,7 +79,7 @@ typedef struct eq_work {
 static double *work_new(eq_work *w, int n, int m)
 {
     const size_t N = (size_t)n, M = (size_t)m, K = N + M;
-    const size_t total = 6 * N + 4 * N * N + 2 * M + 4 * K * K + 7 * K;
+    const size_t total = 9 * N + 5 * N * N + 2 * M + 4 * K * K + 7 * K;
     double *p = calloc(total, sizeof(double)), *c = p;
     if (!p)
         return NULL;
@@ -80,6 +87,9 @@ static double *work_new(eq_work *w, int n, int m)
     w->x = c, c += 2 * N;
     w->g = c, c += 2 * N;
     w->H = c, c += 2 * N * N;
+    w->P = c, c += N * N;
+    w->Q = c, c += N;
+    w->xq = c, c += 2 * N;
     w->eye = c, c += N * N;
     w->Hphi = c, c += N * N;
     w->lam = c, c += M;
@@ -109,7 +119,8 @@ static double maxabs(const double *a, int n)
     return r;
 }
 
-/* r (n + m) at (q, lam); leaves C and phi at q in s. */
+/* r (n + m) at (q, lam), the forces Q(q, 0) included; leaves C and phi
+ * at q in s. */
 static int residual(eom_system *s, eq_work *w, const double *q,
                     const double *lam, double *r)
 {
@@ -119,7 +130,10 @@ static int residual(eom_system *s, eq_work *w, const double *q,
     st = tp_gradient(s->tL.ws, w->x, 0, NULL, w->g);
     if ((rc = eom__tape_status(s, st, "the gradient of the Lagrangian")))
         return rc;
-    memcpy(r, w->g, (size_t)n * sizeof(double));
+    if ((rc = eom__forces_at_rest(s, q, w->xq, w->Q, NULL, NULL)) != EOM_OK)
+        return rc;
+    for (i = 0; i < n; i++)
+        r[i] = w->g[i] + w->Q[i];
     if (m == 0)
         return EOM_OK;
     if ((rc = eom__constraints_at(s, s->time, q)) != EOM_OK)
@@ -148,10 +162,13 @@ static int kkt(eom_system *s, eq_work *w, const double *q, const double *lam)
         if ((rc = eom__tape_status(s, st, "the constraint curvature")))
             return rc;
     }
+    if ((rc = eom__forces_at_rest(s, q, w->xq, w->Q, w->P, NULL)) != EOM_OK)
+        return rc;
     memset(w->J, 0, (size_t)k * (size_t)k * sizeof(double));
     for (i = 0; i < n; i++)
         for (j = 0; j < n; j++)
-            w->J[i * k + j] = w->H[i * n + j] + w->Hphi[i * n + j];
+            w->J[i * k + j] =
+                w->H[i * n + j] + w->P[i * n + j] + w->Hphi[i * n + j];
     for (j = 0; j < m; j++)
         for (i = 0; i < n; i++) {
             w->J[i * k + n + j] = s->C[j * n + i];   /* C^T */
@@ -195,9 +212,9 @@ static int pinv_solve(eom_system *s, eq_work *w, int dim, const double *J,
     return EOM_OK;
 }
 
-/* The least-squares multipliers of C^T lambda = -dL/dq at the point whose
- * residual (lam = 0) is in w->r and whose C is in s: the minimum-norm
- * solution of C C^T lambda = -C g. */
+/* The least-squares multipliers of C^T lambda = -(dL/dq + Q) at the
+ * point whose residual (lam = 0) is in w->r and whose C is in s: the
+ * minimum-norm solution of C C^T lambda = -C r. */
 static int first_multipliers(eom_system *s, eq_work *w)
 {
     const int n = s->n, m = s->m;
@@ -337,7 +354,8 @@ int eom_equilibrium(eom_system *s, double *q, double tol, int *iters)
         return eom__fail(s, EOM_ERR_NONFINITE,
                          "eom_equilibrium: q is not finite");
     if ((rc = eom__refuse_time(s, "eom_equilibrium")) != EOM_OK ||
-        (rc = eom__refuse_velocity(s, "eom_equilibrium")) != EOM_OK)
+        (rc = eom__refuse_velocity(s, "eom_equilibrium")) != EOM_OK ||
+        (rc = eom__refuse_forces_time(s, "eom_equilibrium")) != EOM_OK)
         return rc;
     block = work_new(&w, s->n, s->m);
     if (!block)

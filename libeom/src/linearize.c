@@ -2,19 +2,24 @@
  * natural frequencies of the constrained system (docs/linearization.md).
  *
  * At rest at q the multipliers balance the generalized force,
- * dL/dq + C^T lambda = 0. Small motions dq = N y, with N an orthonormal
+ * dL/dq + Q + C^T lambda = 0 (Q every force the model declares, at
+ * qd = 0: forces_rest.c). Small motions dq = N y, with N an orthonormal
  * basis of the null space of C, obey
  *
  *     Mr ydd + Dr yd + Kr y = 0,   Xr = N^T X N,
- *     M = d2L/dqd2,  K = -(d2L/dq2 + sum_k lambda_k d2phi_k/dq2),
- *     D = d2R/dqd2,
+ *     M = d2L/dqd2,  K = -(d2L/dq2 + dQ/dq + sum_k lambda_k d2phi_k/dq2),
+ *     D = d2R/dqd2 - dQ/dqd,
  *
  * all at (q, 0). The lambda term carries the curvature of the constraint
  * manifold; without it a bead on a circle would have no restoring force.
- * The frequencies solve Kr z = w^2 Mr z (LAPACK dsygv).
+ * The frequencies solve Kr z = w^2 Mr z (LAPACK dsygv), which needs K
+ * symmetric: a force whose dQ/dq is not (a follower load, a circulatory
+ * force) is refused with EOM_ERR_MODEL and a message saying so, as no
+ * undamped frequencies exist; eom_linearize_state gives the eigenvalues.
+ * D keeps the unsymmetric part of -dQ/dqd (a gyroscopic force).
  *
- * A model whose Lagrangian, dissipation or constraints read the time has
- * no state of rest: it is refused (EOM_ERR_MODEL).
+ * A model whose Lagrangian, dissipation, constraints or forces read the
+ * time has no state of rest: it is refused (EOM_ERR_MODEL).
  *
  * Rank: N and lambda come from one SVD of C, so a rank-deficient C (a
  * singular configuration, or redundant constraints) gives a larger null
@@ -31,6 +36,7 @@
 #include <string.h>
 
 #include "eom_internal.h"
+#include "forces_rest.h"
 
 /* Singular values of C at or below this fraction of the largest are zero.
  * AD gives C to rounding, so exact singular configurations land near 1e-16;
@@ -39,6 +45,10 @@
 #define EOM_LIN_RANK_RTOL 1e-10
 /* q must be at rest to this relative tolerance (see check_rest). */
 #define EOM_LIN_REST_TOL 1e-6
+/* K = -(d2L/dq2 + dQ/dq + ...) counts as symmetric when max |K - K^T| is
+ * at most this fraction of max |K|: the sweeps give each entry to
+ * rounding, so a conservative model lands near 1e-16. */
+#define EOM_LIN_SYM_RTOL 1e-9
 
 void eom_linear_free(eom_linear *lin)
 {
@@ -59,7 +69,11 @@ void eom_linear_free(eom_linear *lin)
 /* Scratch of one call, carved from one allocation. */
 typedef struct lin_work {
     double *x;    /* 2n  (q, 0) */
-    double *g;    /* 2n  gradient of L at x; g[0..n) = dL/dq */
+    double *g;    /* 2n  gradient of L at x; g[0..n) = dL/dq + Q */
+    double *Q;    /* n  the forces at rest Q(q, 0) */
+    double *P;    /* n x n  dQ/dq at (q, 0) */
+    double *Pd;   /* n x n  dQ/dqd at (q, 0) */
+    double *xq;   /* 2n  scratch of the force sweeps */
     double *H;    /* 2n x n  Hessian columns of L on q; rows 0..n) d2L/dq2 */
     double *HR;   /* 2n x n  Hessian columns of R on qd */
     double *eye;  /* n x n  identity: directions for the constraint term */
@@ -76,13 +90,17 @@ typedef struct lin_work {
 static double *work_new(lin_work *w, int n, int m)
 {
     const size_t N = (size_t)n, M = (size_t)m, k = N < M ? N : M;
-    const size_t total = 4 * N + 4 * N * N + 5 * N * N + N * M + k + M * M +
+    const size_t total = 7 * N + 4 * N * N + 7 * N * N + N * M + k + M * M +
                          M;
     double *p = calloc(total ? total : 1, sizeof(double)), *c = p;
     if (!p)
         return NULL;
     w->x = c, c += 2 * N;
     w->g = c, c += 2 * N;
+    w->Q = c, c += N;
+    w->xq = c, c += 2 * N;
+    w->P = c, c += N * N;
+    w->Pd = c, c += N * N;
     w->H = c, c += 2 * N * N;
     w->HR = c, c += 2 * N * N;
     w->eye = c, c += N * N;
@@ -160,7 +178,7 @@ static int check_on_manifold(eom_system *s, const double *q)
 }
 
 /* The system must be at rest at q: the unbalanced generalized force
- * r = dL/dq + C^T lambda (lambda the least-squares multipliers, so r is
+ * r = dL/dq + Q + C^T lambda (w->g holds dL/dq + Q; lambda the least-squares multipliers, so r is
  * what no constraint force can cancel) must satisfy
  *     max |r| <= EOM_LIN_REST_TOL (max |dL/dq| + max |K| max(1, |q|)).
  * The K term is the force of a unit displacement: near an unconstrained
@@ -195,7 +213,7 @@ static int check_rest(eom_system *s, const double *q, const lin_work *w,
 
 /* Constraints at q: C, phi, the rank, the null-space basis in w->u
  * (columns rank .. n-1) and the minimum-norm multipliers of C^T lambda =
- * -dL/dq in w->lam. */
+ * -(dL/dq + Q) in w->lam. */
 static int constraint_part(eom_system *s, const double *q, lin_work *w,
                            int *rank)
 {
@@ -228,9 +246,9 @@ static int constraint_part(eom_system *s, const double *q, lin_work *w,
 }
 
 /* Xr = N^T X N (nr x nr) with N n x nr and X n x n, all row-major; t is
- * n x nr scratch. */
+ * n x nr scratch. sym: symmetrize Xr (X is symmetric but for rounding). */
 static void reduce(int n, int nr, const double *N, const double *X,
-                   double *t, double *Xr)
+                   double *t, double *Xr, bool sym)
 {
     int i, j, k;
     for (i = 0; i < n; i++)
@@ -247,7 +265,39 @@ static void reduce(int n, int nr, const double *N, const double *X,
                 v += N[k * nr + i] * t[k * nr + j];
             Xr[i * nr + j] = v;
         }
-    symmetrize(Xr, nr);
+    if (sym)
+        symmetrize(Xr, nr);
+}
+
+/* EOM_ERR_MODEL when the forces leave K unsymmetric beyond
+ * EOM_LIN_SYM_RTOL, naming the pair of coordinates with the largest
+ * difference. */
+static int check_symmetric(eom_system *s, const double *K)
+{
+    const int n = s->n;
+    const double big = maxabs(K, (size_t)n * (size_t)n);
+    double worst = 0.0;
+    int i, j, wi = 0, wj = 0;
+    for (i = 0; i < n; i++)
+        for (j = 0; j < i; j++) {
+            const double d = fabs(K[i * n + j] - K[j * n + i]);
+            if (d > worst) {
+                worst = d;
+                wi = i;
+                wj = j;
+            }
+        }
+    if (worst <= EOM_LIN_SYM_RTOL * big)
+        return EOM_OK;
+    return eom__fail(s, EOM_ERR_MODEL,
+                     "eom_linearize: the forces make the stiffness "
+                     "unsymmetric: dQ/dq couples %s and %s unequally "
+                     "(K differs from its transpose by %.3g, relative "
+                     "%.3g; a follower or circulatory force); there are no "
+                     "undamped natural frequencies, the eigenvalues of "
+                     "eom_linearize_state describe the motion",
+                     s->coords[wi].name, s->coords[wj].name, worst,
+                     worst / big);
 }
 
 /* Kr z = e Mr z by dsygv: omega from e, modes = N Z (n x nr), each mode
@@ -331,6 +381,11 @@ static int linearize(eom_system *s, const double *q, eom_linear *lin,
     if ((rc = eom__tape_status(s, st, "the Lagrangian or the mass matrix")))
         return rc;
     symmetrize(lin->M, n);
+    if ((rc = eom__forces_at_rest(s, q, w->xq, w->Q, w->P, w->Pd)) !=
+        EOM_OK)
+        return rc;
+    for (i = 0; i < n; i++)
+        w->g[i] += w->Q[i];
     if (m > 0) {
         if ((rc = constraint_part(s, q, w, &rank)) != EOM_OK)
             return rc;
@@ -342,7 +397,10 @@ static int linearize(eom_system *s, const double *q, eom_linear *lin,
     }
     for (i = 0; i < n; i++)
         for (j = 0; j < n; j++)
-            lin->K[i * n + j] = -(w->H[i * n + j] + w->Hphi[i * n + j]);
+            lin->K[i * n + j] =
+                -(w->H[i * n + j] + w->P[i * n + j] + w->Hphi[i * n + j]);
+    if ((rc = check_symmetric(s, lin->K)) != EOM_OK)
+        return rc;
     symmetrize(lin->K, n);
     if ((rc = check_rest(s, q, w, lin->K)) != EOM_OK)
         return rc;
@@ -355,6 +413,8 @@ static int linearize(eom_system *s, const double *q, eom_linear *lin,
                (size_t)n * (size_t)n * sizeof(double));
         symmetrize(lin->D, n);
     }
+    for (i = 0; i < n * n; i++)
+        lin->D[i] -= w->Pd[i];
 
     lin->nr = n - rank;
     if ((rc = alloc_reduced(s, lin)) != EOM_OK)
@@ -366,9 +426,9 @@ static int linearize(eom_system *s, const double *q, eom_linear *lin,
                       : (double)(i == j);
     if (lin->nr == 0)
         return EOM_OK;
-    reduce(n, lin->nr, lin->N, lin->M, w->t, lin->Mr);
-    reduce(n, lin->nr, lin->N, lin->K, w->t, lin->Kr);
-    reduce(n, lin->nr, lin->N, lin->D, w->t, lin->Dr);
+    reduce(n, lin->nr, lin->N, lin->M, w->t, lin->Mr, true);
+    reduce(n, lin->nr, lin->N, lin->K, w->t, lin->Kr, true);
+    reduce(n, lin->nr, lin->N, lin->D, w->t, lin->Dr, !s->has_Q);
     if ((rc = eigen(s, lin, w->t, w->t2)) != EOM_OK)
         return rc;
     if (!eom__finite(lin->omega, (size_t)lin->nr) ||
@@ -395,7 +455,8 @@ int eom_linearize(eom_system *s, const double *q, eom_linear *lin)
         return eom__fail(s, EOM_ERR_NONFINITE,
                          "eom_linearize: q is not finite");
     if ((rc = eom__refuse_time(s, "eom_linearize")) != EOM_OK ||
-        (rc = eom__refuse_velocity(s, "eom_linearize")) != EOM_OK)
+        (rc = eom__refuse_velocity(s, "eom_linearize")) != EOM_OK ||
+        (rc = eom__refuse_forces_time(s, "eom_linearize")) != EOM_OK)
         return rc;
     lin->n = s->n;
     lin->M = calloc((size_t)s->n * (size_t)s->n, sizeof(double));

@@ -3,6 +3,8 @@
  * the file's settings, --set of a setting that reshapes the model, a
  * file with an error (file:line:col on stderr, exit status 1, no CSV),
  * --modes of the double pendulum against its closed-form frequencies,
+ * --modes under declared forces (a torque, a follower load; a force
+ * that reads the time refused),
  * --plots without --out in a scratch directory, and --compiled (the
  * interpreter's CSV byte for byte, the cache, no compiler).
  *
@@ -139,6 +141,79 @@ static void case_modes(void)
                1e-9);
     CHECK_NEAR(number_after(r.out, "\n     2  "), sqrt((2 + sqrt(2.0)) * g),
                1e-9);
+    result_free(&r);
+}
+
+/* Writes text to the scratch file name, its path into path. */
+static int write_scratch(char *path, size_t len, const char *name,
+                         const char *text)
+{
+    FILE *f;
+    scratch(path, len, name);
+    f = fopen(path, "w");
+    CHECK(f != NULL);
+    if (!f)
+        return -1;
+    fputs(text, f);
+    fclose(f);
+    return 0;
+}
+
+/* --modes under the model's force statements. A pendulum (m l^2 thdd =
+ * -m g l sin th + tau) with the torque as a force: its equilibrium at
+ * asin(tau / (m g l)) and omega = sqrt(g cos(th) / l). A unit mass on
+ * springs 4 N/m under the follower load (y, 0.5 - x): the equilibrium
+ * (1/34, 2/17), and since no undamped frequencies exist the eigenvalues
+ * s^2 = -4 +- i of the state matrix, two of them unstable. The cart-pole,
+ * pushed by F cos(w t): refused, naming the force that reads the time. */
+static void case_modes_forces(void)
+{
+    const double m = 1.0, l = 0.5, g = 9.81, tau = 2.0;
+    const double th = asin(tau / (m * g * l));
+    char file[300], cp[300];
+    const char *args[] = {file, "--modes", NULL};
+    const char *cart[] = {cp, "--modes", NULL};
+    result r;
+    if (write_scratch(file, sizeof file, "torque.eom",
+                      "param m = 1 [kg]\nparam l = 0.5 [m]\n"
+                      "param g = 9.81 [m/s^2]\nparam tau = 2 [N*m]\n"
+                      "coord theta = 0 [rad]\n"
+                      "T = 1/2*m*l^2*theta_dot^2\n"
+                      "V = -m*g*l*cos(theta)\n"
+                      "force theta = tau\n") != 0)
+        return;
+    run(&r, args);
+    CHECK_INT(r.status, 0);
+    CHECK_HAS(r.out, "every force at rest");
+    CHECK_NEAR(number_after(r.out, "\n  theta  "), th, 1e-12);
+    CHECK_NEAR(number_after(r.out, "\n     1  "), sqrt(g * cos(th) / l),
+               1e-9);
+    result_free(&r);
+
+    if (write_scratch(file, sizeof file, "follower.eom",
+                      "param m = 1 [kg]\nparam k = 4 [N/m]\n"
+                      "param c = 1 [N/m]\nparam f = 0.5 [N]\n"
+                      "coord x = 0.1 [m]\ncoord y = 0 [m]\n"
+                      "T = 1/2*m*(x_dot^2 + y_dot^2)\n"
+                      "V = 1/2*k*(x^2 + y^2)\n"
+                      "force x = c*y\nforce y = f - c*x\n") != 0)
+        return;
+    run(&r, args);
+    CHECK_INT(r.status, 0);
+    CHECK_HAS(r.out, "the forces' stiffness is unsymmetric");
+    CHECK_NEAR(number_after(r.out, "\n  x  "), 1.0 / 34.0, 1e-12);
+    CHECK_NEAR(number_after(r.out, "\n  y  "), 2.0 / 17.0, 1e-12);
+    /* s = +-(a + i b) with (a + i b)^2 = -4 + i: a = 0.2481 */
+    CHECK_NEAR(fabs(number_after(r.out, "\n     1  ")),
+               sqrt((sqrt(17.0) - 4.0) / 2.0), 1e-9);
+    CHECK_HAS(r.out, "UNSTABLE");
+    result_free(&r);
+
+    model_path(cp, sizeof cp, "cart-pole");
+    run(&r, cart);
+    CHECK_INT(r.status, 1);
+    CHECK_HAS(r.err, "the force on x reads the time t");
+    CHECK(r.out == NULL || !has(r.out, "equilibrium coordinates"));
     result_free(&r);
 }
 
@@ -915,6 +990,7 @@ static const struct {
     {"model_list", case_list},   {"model_describe", case_describe},
     {"model_csv", case_csv},     {"model_error", case_error},
     {"model_modes", case_modes}, {"model_plots", case_plots},
+    {"model_modes_forces", case_modes_forces},
     {"model_modes_steady", case_modes_steady},
     {"model_bicycle_modes", case_bicycle_modes},
 };

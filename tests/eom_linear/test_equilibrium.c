@@ -16,6 +16,16 @@
  *   pendulum         to theta = 0 and theta = pi; with a constant torque
  *                    tau < m g l to sin theta = tau / (m g l), where
  *                    omega^2 = g cos(theta) / l.
+ *   forces           the pendulum with its torque as a declared force
+ *                    Q = tq (not a potential): the same sin theta =
+ *                    tq / (m g l) and omega; a force that reads theta
+ *                    (Q = tq - k theta) stiffens K by k, one that reads
+ *                    theta_dot (Q = -b theta_dot) adds b to D; a force
+ *                    that reads the time is refused by both calls with
+ *                    a message naming the coordinate; a circulatory
+ *                    force (x, y on springs, Q = (c y, -c x)) has its
+ *                    equilibrium found and eom_linearize refused with a
+ *                    message (K is not symmetric).
  *   double pendulum  unconstrained Newton to the hanging state.
  *   failures         no equilibrium (tau > m g l; rods too short to
  *                    reach the far pin): EOM_ERR_NOT_CONVERGED with a
@@ -210,6 +220,161 @@ static void test_pendulum(void)
     eom_system_free(&s);
 }
 
+/* The pendulum's declared force, by *mode: 0 Q = tq, 1 Q = tq - k theta,
+ * 2 Q = tq - b theta_dot, 3 Q = tq cos(t). */
+static int pend_force(eom_ctx *c, void *user, tp_val *out)
+{
+    tp_rec *R = eom_rec(c);
+    const int mode = *(const int *)user;
+    tp_val tq = eom_param(c, "tq");
+    if (mode == 1)
+        tq = tp_sub(R, tq, tp_mul(R, eom_param(c, "k"), eom_q(c, 0)));
+    else if (mode == 2)
+        tq = tp_sub(R, tq, tp_mul(R, eom_param(c, "b"), eom_qd(c, 0)));
+    else if (mode == 3)
+        tq = tp_mul(R, tq, tp_cos(R, eom_time(c)));
+    out[0] = tq;
+    return 0;
+}
+
+static eom_system *forced_pendulum(double m, double l, double tq,
+                                   int *mode)
+{
+    eom_model *md = lin_models_pendulum(m, l, G, 0.0, 0.3, 1, 0.0);
+    if (!md)
+        return NULL;
+    eom_model_add_param(md, "tq", "N m", tq, "torque (a force)");
+    eom_model_add_param(md, "k", "N m", 2.0, "torsion spring (a force)");
+    eom_model_add_param(md, "b", "N m s", 0.4, "damper (a force)");
+    eom_model_set_forces(md, pend_force, mode);
+    return lin_models_system(md);
+}
+
+static int plane_T(eom_ctx *c, void *user, tp_val *out)
+{
+    tp_rec *R = eom_rec(c);
+    (void)user;
+    *out = tp_mulc(R, tp_add(R, tp_sqr(R, eom_qd(c, 0)),
+                             tp_sqr(R, eom_qd(c, 1))), 0.5);
+    return 0;
+}
+
+static int plane_V(eom_ctx *c, void *user, tp_val *out)
+{
+    tp_rec *R = eom_rec(c);
+    (void)user;
+    *out = tp_mulc(R, tp_add(R, tp_sqr(R, eom_q(c, 0)),
+                             tp_sqr(R, eom_q(c, 1))), 2.0);
+    return 0;
+}
+
+/* A follower load on a unit mass held by springs 4 N/m: Q = (y, 0.5 - x). */
+static int plane_Q(eom_ctx *c, void *user, tp_val *out)
+{
+    tp_rec *R = eom_rec(c);
+    (void)user;
+    out[0] = eom_q(c, 1);
+    out[1] = tp_csub(R, 0.5, eom_q(c, 0));
+    return 0;
+}
+
+static void test_forces(void)
+{
+    const double m = 0.7, l = 1.3, mgl = m * G * l, tq = 0.4 * mgl;
+    const double th = asin(0.4);
+    static int modes[4] = {0, 1, 2, 3};
+    eom_linear lin;
+    eom_model *md = NULL;
+    eom_system *s;
+    double q, xy[2];
+    int it = 0;
+
+    /* a constant torque declared as a force */
+    s = forced_pendulum(m, l, tq, &modes[0]);
+    CHECK(s != NULL);
+    if (s) {
+        q = 0.0;
+        CHECK_INT(equilibrium(s, &q, 1e-12, &it), EOM_OK);
+        CHECK_NEAR(q, th, 1e-12);
+        CHECK_INT(linearize(s, &q, &lin), EOM_OK);
+        if (lin.nr == 1) {
+            CHECK_NEAR(lin.omega[0], sqrt(G * cos(th) / l), 1e-12);
+            CHECK_NEAR(lin.D[0], 0.3, 1e-14);
+        }
+        eom_linear_free(&lin);
+        /* the hanging state is not at rest under the torque */
+        q = 0.0;
+        CHECK_INT(eom_linearize(s, &q, &lin), EOM_ERR_ARG);
+        eom_system_free(&s);
+    }
+
+    /* a force that reads theta: balance mgl sin q + k q = tq, K + k */
+    s = forced_pendulum(m, l, tq, &modes[1]);
+    CHECK(s != NULL);
+    if (s) {
+        q = 0.0;
+        CHECK_INT(equilibrium(s, &q, 1e-12, &it), EOM_OK);
+        CHECK_NEAR(mgl * sin(q) + 2.0 * q, tq, 1e-12);
+        CHECK_INT(linearize(s, &q, &lin), EOM_OK);
+        if (lin.nr == 1)
+            CHECK_NEAR(lin.omega[0],
+                       sqrt((mgl * cos(q) + 2.0) / (m * l * l)), 1e-12);
+        eom_linear_free(&lin);
+        eom_system_free(&s);
+    }
+
+    /* a force that reads theta_dot: no part in the balance, b in D */
+    s = forced_pendulum(m, l, tq, &modes[2]);
+    CHECK(s != NULL);
+    if (s) {
+        q = 0.0;
+        CHECK_INT(equilibrium(s, &q, 1e-12, &it), EOM_OK);
+        CHECK_NEAR(q, th, 1e-12);
+        CHECK_INT(linearize(s, &q, &lin), EOM_OK);
+        if (lin.nr == 1) {
+            CHECK_NEAR(lin.omega[0], sqrt(G * cos(th) / l), 1e-12);
+            CHECK_NEAR(lin.D[0], 0.3 + 0.4, 1e-14);
+        }
+        eom_linear_free(&lin);
+        eom_system_free(&s);
+    }
+
+    /* a force that reads the time: refused, the coordinate named */
+    s = forced_pendulum(m, l, tq, &modes[3]);
+    CHECK(s != NULL);
+    if (s) {
+        q = 0.1;
+        CHECK_INT(eom_equilibrium(s, &q, 1e-12, &it), EOM_ERR_MODEL);
+        CHECK(strstr(eom_system_errmsg(s), "force on theta reads the "
+                                           "time") != NULL);
+        CHECK(q == 0.1);
+        CHECK_INT(eom_linearize(s, &q, &lin), EOM_ERR_MODEL);
+        CHECK(strstr(eom_system_errmsg(s), "reads the time") != NULL);
+        eom_system_free(&s);
+    }
+
+    /* a circulatory force: the equilibrium, and no undamped frequencies */
+    CHECK_INT(eom_model_new(&md), EOM_OK);
+    eom_model_add_coord(md, "x", "m", 0.1, 0.0);
+    eom_model_add_coord(md, "y", "m", 0.0, 0.0);
+    eom_model_set_kinetic(md, plane_T, NULL);
+    eom_model_set_potential(md, plane_V, NULL);
+    eom_model_set_forces(md, plane_Q, NULL);
+    s = lin_models_system(md);
+    CHECK(s != NULL);
+    if (s) {
+        xy[0] = 0.1;
+        xy[1] = 0.0;
+        CHECK_INT(equilibrium(s, xy, 1e-13, &it), EOM_OK);
+        /* 4 x = y, 4 y = 0.5 - x */
+        CHECK_NEAR(xy[0], 0.5 / 17.0, 1e-13);
+        CHECK_NEAR(xy[1], 2.0 / 17.0, 1e-13);
+        CHECK_INT(eom_linearize(s, xy, &lin), EOM_ERR_MODEL);
+        CHECK(strstr(eom_system_errmsg(s), "unsymmetric") != NULL);
+        eom_system_free(&s);
+    }
+}
+
 static void test_double_pendulum(void)
 {
     const double m[2] = {1.5, 0.8}, l[2] = {1.2, 0.7};
@@ -258,6 +423,7 @@ int main(void)
 {
     test_four_bar();
     test_pendulum();
+    test_forces();
     test_double_pendulum();
     test_bad_input();
     CHECK_DONE();
