@@ -423,19 +423,21 @@ EOM_API int eom_project_start(eom_system *s, double *x, double tol,
 /* ---- linearization ---------------------------------------------------- */
 
 /* Linearization about an equilibrium q (qd = 0): M, the stiffness
- * K = -d2L/dq2 - sum_k lambda_k d2phi_k/dq2 and the damping D =
- * d2R/dqd2 (each n x n), reduced to the null space of C (nr = n - rank
- * C coordinates; a rank-deficient C is allowed), and the natural
+ * K = -d2L/dq2 - dQ/dq - sum_k lambda_k d2phi_k/dq2 and the damping
+ * D = d2R/dqd2 - dQ/dqd (each n x n; Q the declared forces at qd = 0),
+ * reduced to the null space of C (nr = n - rank C coordinates; a
+ * rank-deficient C is allowed), and the natural
  * frequencies omega (rad/s, ascending) of K v = omega^2 M v on that null
  * space. The multipliers are those that hold the system at rest at q; if
  * q is not at rest (off the constraints, or an unbalanced force beyond a
  * relative 1e-6) the call fails with EOM_ERR_ARG: find the rest state
- * with eom_equilibrium first. Generalized forces Q are not included.
- * eom_linearize overwrites *lin without freeing it (free an earlier
+ * with eom_equilibrium first. A force whose dQ/dq is not symmetric (a
+ * follower load) leaves no undamped frequencies: EOM_ERR_MODEL, with a
+ * message saying so. eom_linearize overwrites *lin without freeing it (free an earlier
  * result with eom_linear_free first) and leaves it zeroed on failure.
- * A model whose Lagrangian, dissipation or constraints read the time has
- * no state of rest: EOM_ERR_MODEL. docs/linearization.md has the
- * details. */
+ * A model whose Lagrangian, dissipation, constraints or forces read the
+ * time has no state of rest: EOM_ERR_MODEL. docs/linearization.md has
+ * the details. */
 typedef struct eom_linear {
     int n, nr;       /* coordinates, and independent ones */
     double *M, *K, *D; /* n x n */
@@ -475,10 +477,11 @@ EOM_API int eom_linearize_state(eom_system *s, double t, const double *x,
 EOM_API void eom_state_linear_free(eom_state_linear *lin);
 
 /* Static equilibrium: from q (n, updated in place), Newton iteration
- * (with a line search) on dL/dq(q, 0) + C^T lambda = 0, phi(q) = 0 with the
- * tape's second derivatives, to max |residual| <= tol. Generalized forces
- * Q are not included; a model whose Lagrangian, dissipation or
- * constraints read the time is refused (EOM_ERR_MODEL). On failure
+ * (with a line search) on dL/dq(q, 0) + Q(q, 0) + C^T lambda = 0,
+ * phi(q) = 0 (Q every declared force at qd = 0) with the tape's second
+ * derivatives, to max |residual| <= tol. A model whose Lagrangian,
+ * dissipation, constraints or forces read the time is refused
+ * (EOM_ERR_MODEL, naming what reads it). On failure
  * (EOM_ERR_NOT_CONVERGED after 50 steps, or another error) q is restored
  * to the guess. *iters (may be NULL)
  * receives the number of Newton steps. */
