@@ -5,14 +5,16 @@
 
 #include "eom/run.h"
 
-/* The name of state i: a coordinate, or a coordinate's rate. */
+/* The name of state i: q:NAME for a coordinate, qd:NAME for its rate.
+ * The prefix keeps every row name apart from the block names (a
+ * coordinate may be called x, A or T). */
 static void state_name(const eom_system *s, int i, char *buf, size_t len)
 {
     const int n = eom_system_ncoords(s);
     if (i < n)
-        snprintf(buf, len, "%s", eom_coord_name(s, i));
+        snprintf(buf, len, "q:%s", eom_coord_name(s, i));
     else
-        snprintf(buf, len, "%s_dot", eom_coord_name(s, i - n));
+        snprintf(buf, len, "qd:%s", eom_coord_name(s, i - n));
 }
 
 static void number(FILE *f, double v)
@@ -36,7 +38,7 @@ static void header(FILE *f, const eom_system *s, const char *what,
         if (kind == COLS_STATES)
             state_name(s, j, name, sizeof name);
         else if (kind == COLS_PARAMS)
-            snprintf(name, sizeof name, "%s", eom_param_name(s, j));
+            snprintf(name, sizeof name, "p:%s", eom_param_name(s, j));
         else
             snprintf(name, sizeof name, "z%d", j + 1);
         fprintf(f, ",%s", name);
@@ -77,7 +79,8 @@ int linearize_report(FILE *f, eom_system *s, double t, const double *x,
     fprintf(f, "# eom-run --linearize: %s about its start state at t = %g\n"
             "# d(dx)/dt = A dx + B dp; with constraints dx = T z, "
             "d(z)/dt = Ar z + Br dp\n"
-            "# (docs/cli.md, \"Linearization\"; docs/linearization.md)\n",
+            "# (docs/cli.md, \"Linearization\"; docs/csv.md; "
+            "docs/linearization.md)\n",
             label, t);
     header(f, s, "x", COLS_STATES, lin.n2);
     fputs("value", f);

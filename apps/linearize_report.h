@@ -2,10 +2,13 @@
  * state-space linearization about the start state (eom_linearize_state),
  * written as comma-separated blocks on standard output.
  *
- * The format (docs/cli.md, "Linearization"), one block per matrix: a
+ * The format (docs/csv.md, "Linearization"), one block per matrix: a
  * header line whose first field names the block and whose other fields
  * name the columns, then one line per row whose first field names the
- * row. Numbers are written so that they read back exactly.
+ * row. Numbers are written so that they read back exactly. A state is
+ * q:NAME (a coordinate) or qd:NAME (its rate), a parameter p:NAME: no
+ * row name is a block name, whatever the model's names, so the first
+ * field of a line says whether it starts a block.
  *   x,<states>                 the state: one row "value"
  *   A,<states>                 rows: the states; d(xd_i)/dx_j
  *   B,<parameters>             rows: the states; d(xd_i)/dp_k

@@ -375,27 +375,27 @@ static void case_linearize(void)
 
     run(&res, moving);
     CHECK_INT(res.status, 0);
-    CHECK_INT(block_row(res.out, "A", "r_dot", v, 16), 4);
+    CHECK_INT(block_row(res.out, "A", "qd:r", v, 16), 4);
     CHECK_NEAR(v[0], thd * thd - k / m, 1e-12);
     CHECK_NEAR(v[1], -g * sin(th), 1e-12);
     CHECK_NEAR(v[2], 0.0, 1e-12);
     CHECK_NEAR(v[3], 2.0 * r * thd, 1e-12);
-    CHECK_INT(block_row(res.out, "A", "theta_dot", v, 16), 4);
+    CHECK_INT(block_row(res.out, "A", "qd:theta", v, 16), 4);
     CHECK_NEAR(v[0], (g * sin(th) + 2.0 * rd * thd) / (r * r), 1e-12);
     CHECK_NEAR(v[1], -g * cos(th) / r, 1e-12);
     CHECK_NEAR(v[2], -2.0 * thd / r, 1e-12);
     CHECK_NEAR(v[3], -2.0 * rd / r, 1e-12);
-    CHECK_INT(block_row(res.out, "A", "theta", v, 16), 4);
+    CHECK_INT(block_row(res.out, "A", "q:theta", v, 16), 4);
     CHECK(v[0] == 0.0 && v[1] == 0.0 && v[2] == 0.0 && v[3] == 1.0);
     /* B: columns m, k, r0, g */
-    CHECK_INT(block_row(res.out, "B", "r_dot", v, 16), 4);
+    CHECK_INT(block_row(res.out, "B", "qd:r", v, 16), 4);
     CHECK_NEAR(v[0], k * (r - r0) / (m * m), 1e-12);
     CHECK_NEAR(v[1], -(r - r0) / m, 1e-12);
     CHECK_NEAR(v[2], k / m, 1e-12);
     CHECK_NEAR(v[3], cos(th), 1e-12);
-    CHECK_INT(block_row(res.out, "B", "theta_dot", v, 16), 4);
+    CHECK_INT(block_row(res.out, "B", "qd:theta", v, 16), 4);
     CHECK_NEAR(v[3], -sin(th) / r, 1e-12);
-    CHECK_HAS(res.out, "\nB,m,k,r0,g\n");
+    CHECK_HAS(res.out, "\nB,p:m,p:k,p:r0,p:g\n");
     result_free(&res);
 
     snprintf(rest_r, sizeof rest_r, "r=%.17g", req);
@@ -418,12 +418,122 @@ static void case_linearize(void)
     CHECK_INT(res.status, 0);
     CHECK_HAS(res.out, "\nT,z1,z2\n");
     CHECK_HAS(res.out, "\nAr,z1,z2\n");
-    CHECK_INT(block_row(res.out, "T", "th1_dot", v, 16), 2);
+    CHECK_INT(block_row(res.out, "T", "qd:th1", v, 16), 2);
     result_free(&res);
 
     run(&res, bad);
     CHECK_INT(res.status, 2);
     CHECK_HAS(res.err, "--linearize prints to standard output");
+    result_free(&res);
+}
+
+/* --linearize's output read as docs/csv.md says a script should: a line
+ * whose first field is a block name starts that block and names its
+ * columns; any other line (not a # comment) is a row of the current
+ * block, named by its first field. The entry (row, col) of block blk
+ * into *v; 0, or -1 when missing. *nrows receives the block's row count
+ * (may be NULL). */
+static int lin_entry(const char *out, const char *blk, const char *row,
+                     const char *col, double *v, int *nrows)
+{
+    static const char *const blocks[] = {"x", "A", "B", "T", "Ar", "Br",
+                                         "eigenvalues"};
+    char line[4096], cur[64] = "", head[4096] = "";
+    const char *p = out;
+    int found = -1, rows = 0;
+    while (p && *p) {
+        const char *e = strchr(p, '\n');
+        size_t len = e ? (size_t)(e - p) : strlen(p), k, fl;
+        int isblock = 0;
+        if (len >= sizeof line)
+            return -1;
+        memcpy(line, p, len);
+        line[len] = '\0';
+        p = e ? e + 1 : NULL;
+        if (line[0] == '#' || line[0] == '\0')
+            continue;
+        fl = strcspn(line, ",");
+        for (k = 0; k < sizeof blocks / sizeof blocks[0]; k++)
+            isblock |= strlen(blocks[k]) == fl &&
+                       strncmp(line, blocks[k], fl) == 0;
+        if (isblock) {
+            snprintf(cur, sizeof cur, "%.*s", (int)fl, line);
+            snprintf(head, sizeof head, "%s", line);
+            continue;
+        }
+        if (strcmp(cur, blk) != 0)
+            continue;
+        rows++;
+        if (strlen(row) == fl && strncmp(line, row, fl) == 0) {
+            /* the column's position in the header, then that field */
+            const char *h = head, *f = line;
+            size_t cl = strlen(col);
+            int j = 0, want = -1;
+            while ((h = strchr(h, ',')) != NULL) {
+                h++;
+                j++;
+                if (strncmp(h, col, cl) == 0 && (h[cl] == ',' || !h[cl]))
+                    want = j;
+            }
+            for (j = 0; want > 0 && j < want && f; j++)
+                if ((f = strchr(f, ',')) != NULL)
+                    f++;
+            if (want > 0 && f) {
+                *v = strtod(f, NULL);
+                found = 0;
+            }
+        }
+    }
+    if (nrows)
+        *nrows = rows;
+    return found;
+}
+
+/* --linearize of a model whose coordinates are named like the blocks
+ * (x, B): a mass on a spring k and a pendulum of length l, uncoupled, at
+ * x = 0.1, B = 0.2. Read by lin_entry: the blocks have their 1 and 4
+ * rows, A its closed-form entries, B (the block) its parameter columns. */
+static void case_linearize_names(void)
+{
+    const double m = 2.0, k = 8.0, l = 0.5, g = 9.81, B = 0.2;
+    char file[300];
+    const char *args[] = {file, "--linearize", NULL};
+    double v = NAN;
+    int rows = -1;
+    result res;
+    if (write_scratch(file, sizeof file, "xb.eom",
+                      "param m = 2 [kg]\nparam k = 8 [N/m]\n"
+                      "param l = 0.5 [m]\nparam g = 9.81 [m/s^2]\n"
+                      "coord x = 0.1 [m]\ncoord B = 0.2 [rad]\n"
+                      "T = 1/2*m*x_dot^2 + 1/2*m*l^2*B_dot^2\n"
+                      "V = 1/2*k*x^2 - m*g*l*cos(B)\n") != 0)
+        return;
+    run(&res, args);
+    CHECK_INT(res.status, 0);
+    CHECK_INT(lin_entry(res.out, "x", "value", "q:x", &v, &rows), 0);
+    CHECK_NEAR(v, 0.1, 0.0);
+    CHECK_INT(rows, 1);
+    CHECK_INT(lin_entry(res.out, "x", "value", "q:B", &v, NULL), 0);
+    CHECK_NEAR(v, B, 0.0);
+    CHECK_INT(lin_entry(res.out, "A", "qd:x", "q:x", &v, &rows), 0);
+    CHECK_NEAR(v, -k / m, 1e-14);
+    CHECK_INT(rows, 4);
+    CHECK_INT(lin_entry(res.out, "A", "q:x", "qd:x", &v, NULL), 0);
+    CHECK_NEAR(v, 1.0, 0.0);
+    CHECK_INT(lin_entry(res.out, "A", "qd:B", "q:B", &v, NULL), 0);
+    CHECK_NEAR(v, -g * cos(B) / l, 1e-13);
+    CHECK_INT(lin_entry(res.out, "A", "qd:B", "q:x", &v, NULL), 0);
+    CHECK_NEAR(v, 0.0, 0.0);
+    CHECK_INT(lin_entry(res.out, "B", "qd:x", "p:k", &v, &rows), 0);
+    CHECK_NEAR(v, -0.1 / m, 1e-15);
+    CHECK_INT(rows, 4);
+    CHECK_INT(lin_entry(res.out, "B", "qd:B", "p:l", &v, NULL), 0);
+    CHECK_NEAR(v, g * sin(B) / (l * l), 1e-13);
+    CHECK_INT(lin_entry(res.out, "T", "qd:B", "z4", &v, &rows), 0);
+    CHECK_INT(rows, 4);
+    CHECK_INT(lin_entry(res.out, "eigenvalues", "4", "im", &v, &rows), 0);
+    CHECK_NEAR(v, sqrt(g * cos(B) / l), 1e-12);
+    CHECK_INT(rows, 4);
     result_free(&res);
 }
 
@@ -983,6 +1093,7 @@ static const struct {
     {"model_compiled", case_compiled},
     {"model_columns", case_columns},
     {"model_linearize", case_linearize},
+    {"model_linearize_names", case_linearize_names},
     {"model_sensitivity", case_sensitivity},
     {"model_sensitivity_constraints", case_sensitivity_constraints},
     {"model_health", case_health},
