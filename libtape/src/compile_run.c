@@ -15,14 +15,15 @@
  * word as argv[0]): the cache key names the same compiler (its path,
  * size, times and `--version`).
  *
- * The children. Each compiler call runs under a guard: a child process
- * that leads a process group of its own, starts the compiler in it and
- * waits for it. When the thread that started the guard dies (the process
- * is killed mid-compile), the guard is told (Linux: PR_SET_PDEATHSIG) and
- * kills its whole group, so no compiler (nor the compiler's own children)
- * outlives the run; a build abandoned because one part failed kills the
- * other parts' groups. Between fork and exec the child calls only
- * async-signal-safe functions: the caller may have threads.
+ * The children. Each compiler call runs under a guard: the system's shell
+ * (/bin/sh) in a process group of its own, which starts the compiler in
+ * it and waits for it. When the thread that started the guard dies (the
+ * process is killed mid-compile), the guard is told (Linux:
+ * PR_SET_PDEATHSIG) and kills its whole group, so no compiler (nor the
+ * compiler's own children) outlives the run; a build abandoned because
+ * one part failed kills the other parts' groups. Between fork and exec
+ * the child calls only async-signal-safe functions: the caller may have
+ * threads.
  *
  * Nothing here can terminate the caller, and every failure is a message.
  */
@@ -130,11 +131,20 @@ int tp__compiler_path(const char *cc, char *exe, size_t len, char *msg,
 
 /* ---- children ------------------------------------------------------------ */
 
-static void guard_kill(int sig)
-{
-    (void)sig;
-    kill(0, SIGKILL); /* the guard's group: the compiler, its children, it */
-}
+/* The guard is the system's shell, run with this script and the compiler
+ * as its arguments: it leads a process group of its own, starts the
+ * compiler in it, waits for it and exits with its status; told to stop
+ * (SIGTERM: the thread that started it died; SIGHUP, SIGINT), it kills its
+ * whole group. A program of its own rather than a forked copy of the
+ * caller, so that nothing of the caller's state (its heap, its threads'
+ * stacks) lives on in it, and a memory checker that follows the caller
+ * does not follow the guard. */
+static char guard_script[] =
+    "trap 'kill -KILL 0' TERM HUP INT; \"$@\" & wait $!";
+static char guard_sh[] = "sh", guard_c[] = "-c";
+#define GUARD_SHELL "/bin/sh"
+/* the longest argv a compiler call has (build_args) */
+#define ARGV_CAP (MAX_ARGS + TP_MAX_PARTS + 12)
 
 /* Start exe (argv[0] its name as the command gave it) under a guard,
  * with stdout and stderr to out (an open descriptor): the guard's pid
@@ -143,41 +153,47 @@ static pid_t start(const char *exe, char **argv, int out, char *msg,
                    size_t len)
 {
     const pid_t parent = getpid();
-    struct sigaction sa;
+    char *gargv[ARGV_CAP + 5];
+    union {
+        const char *c;
+        char *m; /* execv's argv is char *const[]: nothing writes it */
+    } path;
+    struct sigaction dfl;
     sigset_t none;
     pid_t pid;
-    memset(&sa, 0, sizeof sa);
-    sa.sa_handler = guard_kill;
-    sigemptyset(&sa.sa_mask);
+    int k, n = 0;
+    /* everything exec needs is made before fork: the caller may have
+     * threads, so the child calls only async-signal-safe functions */
+    path.c = exe;
+    gargv[n++] = guard_sh;
+    gargv[n++] = guard_c;
+    gargv[n++] = guard_script;
+    gargv[n++] = guard_sh;
+    gargv[n++] = path.m; /* the resolved compiler ("$@" runs it) */
+    for (k = 1; argv[k] && n < ARGV_CAP + 4; k++)
+        gargv[n++] = argv[k];
+    gargv[n] = NULL;
+    memset(&dfl, 0, sizeof dfl);
+    dfl.sa_handler = SIG_DFL;
+    sigemptyset(&dfl.sa_mask);
     sigemptyset(&none);
     pid = fork();
-    if (pid == 0) { /* the guard: async-signal-safe calls only */
-        pid_t c;
-        int st;
+    if (pid == 0) {
         setpgid(0, 0);
-        sigaction(SIGTERM, &sa, NULL);
-        sigaction(SIGHUP, &sa, NULL);
-        sigaction(SIGINT, &sa, NULL);
+        /* a signal ignored when a shell starts cannot be trapped */
+        sigaction(SIGTERM, &dfl, NULL);
+        sigaction(SIGHUP, &dfl, NULL);
+        sigaction(SIGINT, &dfl, NULL);
         sigprocmask(SIG_SETMASK, &none, NULL);
 #if defined(__linux__)
-        prctl(PR_SET_PDEATHSIG, SIGTERM);
+        prctl(PR_SET_PDEATHSIG, SIGTERM); /* kept across exec */
 #endif
         if (getppid() != parent) /* the caller died before prctl */
             kill(0, SIGKILL);
-        c = fork();
-        if (c == 0) {
-            if (dup2(out, 1) < 0 || dup2(out, 2) < 0)
-                _exit(126);
-            execv(exe, argv);
-            _exit(127);
-        }
-        if (c < 0)
+        if (dup2(out, 1) < 0 || dup2(out, 2) < 0)
             _exit(126);
-        while (waitpid(c, &st, 0) < 0)
-            if (errno != EINTR)
-                _exit(126);
-        _exit(WIFEXITED(st) ? WEXITSTATUS(st)
-                            : 128 + (WIFSIGNALED(st) ? WTERMSIG(st) : 0));
+        execv(GUARD_SHELL, gargv);
+        _exit(127);
     }
     if (pid < 0) {
         snprintf(msg, len, "cannot start the C compiler: %s",
@@ -370,7 +386,7 @@ int tp__run_build(const char *exe, const char *cc, const char *flags,
     char words[WORDS_LEN], defs[TP_MAX_PARTS][2][32];
     char obj[TP_MAX_PARTS][PATH_LEN], src[PATH_LEN], so[PATH_LEN],
         log[PATH_LEN];
-    char *argv[MAX_ARGS + TP_MAX_PARTS + 12];
+    char *argv[ARGV_CAP];
     pid_t pid[TP_MAX_PARTS];
     int n, m, k, rc = 0, started = 0, out;
     msg[0] = 0;
