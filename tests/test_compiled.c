@@ -19,7 +19,8 @@
  *      missing or failing compiler and an unusable cache directory give
  *      TP_ERR_COMPILE with a message that says which.
  *   3. Parts: a tape of about 1400 ops built by three compilers side by
- *      side (tp_compile_opts.jobs) against the interpreter as in 1; only
+ *      side (tp_compile_opts.jobs) against the interpreter as in 1, one
+ *      of about 560 ops by two and by one; only
  *      some sweeps compiled (tp_compile_opts.sweeps): the source has those
  *      alone, and the others run interpreted with the same results.
  *   4. Misuse: a compiled tape on a workspace of another tape or width;
@@ -108,7 +109,7 @@ static int rec_every_op(tp_rec *r, void *user)
     return 0;
 }
 
-static tp_tape *record(tp_func f)
+static tp_tape *record_with(tp_func f, void *user)
 {
     unsigned char group[NX];
     tp_rec *r = NULL;
@@ -117,11 +118,16 @@ static tp_tape *record(tp_func f)
     for (i = 0; i < NX; i++)
         group[i] = (unsigned char)(i < NQ ? 0 : i < 2 * NQ ? 1 : 2);
     if (tp_recorder_new(&r, NX, group, NULL) != TP_OK ||
-        tp_rec_run(r, NULL, f, NULL) != TP_OK ||
+        tp_rec_run(r, NULL, f, user) != TP_OK ||
         tp_recorder_finish(r, &t) != TP_OK)
         t = NULL;
     tp_rec_free(&r);
     return t;
+}
+
+static tp_tape *record(tp_func f)
+{
+    return record_with(f, NULL);
 }
 
 static void random_state(rng *g, double *x)
@@ -253,13 +259,15 @@ static void every_op(const char *dir)
 
 /* ---- 3. parts and sweeps ----------------------------------------------- */
 
-/* A long Lagrangian: 150 terms of the form of rec_every_op's kinetic and
- * potential parts, about 1400 ops (three parts of a build with jobs 3). */
+/* A long Lagrangian: *user (an int) terms of the form of rec_every_op's
+ * kinetic and potential parts, about 9 ops each: 150 give about 1400 ops
+ * (three parts of a build with jobs 3), 60 about 560 (two parts with
+ * jobs 2). */
 static int rec_long(tp_rec *r, void *user)
 {
     tp_val q[NQ], qd[NQ], t, L, m;
+    const int terms = *(const int *)user;
     int i, k;
-    (void)user;
     for (i = 0; i < NQ; i++) {
         q[i] = tp_indep(r, i);
         qd[i] = tp_indep(r, NQ + i);
@@ -267,7 +275,7 @@ static int rec_long(tp_rec *r, void *user)
     t = tp_indep(r, 2 * NQ);
     m = tp_param(r, "m", 1.5);
     L = tp_mulc(r, tp_mul(r, m, tp_sqr(r, qd[0])), 0.5);
-    for (k = 0; k < 150; k++) {
+    for (k = 0; k < terms; k++) {
         const int a = k % NQ, b = (k + 1) % NQ;
         tp_val c = tp_cos(r, tp_addc(r, tp_sub(r, q[a], q[b]), 0.01 * k));
         tp_val term = tp_mul(r, tp_mul(r, qd[a], qd[b]), c);
@@ -351,15 +359,24 @@ static void compiled_against_interpreter(tp_tape *t, const tp_compile_opts *o,
 
 static void parts_and_sweeps(const char *dir)
 {
-    tp_tape *t = record(rec_long), *t2 = record(rec_every_op);
+    static int long_terms = 150, mid_terms = 60;
+    tp_tape *t = record_with(rec_long, &long_terms);
+    tp_tape *tm = record_with(rec_long, &mid_terms);
+    tp_tape *t2 = record(rec_every_op);
     tp_compile_opts o;
-    CHECK(t && t2);
-    if (!t || !t2)
+    CHECK(t && tm && t2);
+    if (!t || !tm || !t2) {
+        tp_tape_free(&t);
+        tp_tape_free(&tm);
+        tp_tape_free(&t2);
         return;
+    }
     {
         tp_tape_stats st;
         CHECK_INT(tp_tape_stats_get(t, &st), TP_OK);
         CHECK(st.n_ops >= 1000 && st.n_ops < 1500); /* three parts */
+        CHECK_INT(tp_tape_stats_get(tm, &st), TP_OK);
+        CHECK(st.n_ops >= 500 && st.n_ops < 1000); /* two parts */
     }
     memset(&o, 0, sizeof o);
     o.cache_dir = dir;
@@ -369,15 +386,15 @@ static void parts_and_sweeps(const char *dir)
     o.jobs = 3;
     compiled_against_interpreter(t, &o, 3, "fwd0\0rev1\0lagrange\0", "",
                                  20);
-    /* the same source in two parts and in one piece (other flags, so not
-     * from the cache) */
+    /* a shorter source in two parts and in one piece (other flags, so not
+     * from the cache; the 1400 ops again cost 8 s of compiler time) */
     o.jobs = 2;
     o.cflags = "-O0 -g0";
-    compiled_against_interpreter(t, &o, 2, "fwd0\0rev1\0lagrange\0", "",
+    compiled_against_interpreter(tm, &o, 2, "fwd0\0rev1\0lagrange\0", "",
                                  5);
     o.jobs = 1;
     o.cflags = "-O0";
-    compiled_against_interpreter(t, &o, 1, "fwd0\0rev1\0lagrange\0", "",
+    compiled_against_interpreter(tm, &o, 1, "fwd0\0rev1\0lagrange\0", "",
                                  5);
     /* some sweeps only; the rest run interpreted */
     o.jobs = 0;
@@ -396,6 +413,7 @@ static void parts_and_sweeps(const char *dir)
     compiled_against_interpreter(t2, &o, 1, "taylor2\0",
                                  "fwd0\0rev1\0lagrange\0jacobian\0", 10);
     tp_tape_free(&t);
+    tp_tape_free(&tm);
     tp_tape_free(&t2);
 }
 
