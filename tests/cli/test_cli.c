@@ -260,10 +260,10 @@ static void case_help(void)
 static void case_csv(void)
 {
     char path[300];
-    const char *args[] = {"spring-pendulum", "--t-end", "0.5", "--out",
-                          path, NULL};
-    const char *args_stdout[] = {"spring-pendulum", "--t-end", "0.5", "-q",
-                                 NULL};
+    const char *args[] = {"spring-pendulum", "--integrator", "rk4",
+                          "--t-end", "0.5", "--out", path, NULL};
+    const char *args_stdout[] = {"spring-pendulum", "--integrator", "rk4",
+                                 "--t-end", "0.5", "-q", NULL};
     char *file;
     result r, r2;
     csv c;
@@ -496,12 +496,13 @@ static void case_usage(void)
 static void case_failure(void)
 {
     char path[300];
-    const char *steps[] = {"spring-pendulum", "--max-steps", "1", "--out",
-                           path, NULL};
+    const char *steps[] = {"spring-pendulum", "--integrator", "rk4",
+                           "--max-steps", "1", "--out", path, NULL};
     /* RK4 far beyond its stability limit (h w = 17): the state grows by
      * orders of magnitude each step until it overflows */
-    const char *diverge[] = {"spring-pendulum", "--dt", "2", "--sample", "2",
-                             "--t-end", "1000", "-q", "--out", path, NULL};
+    const char *diverge[] = {"spring-pendulum", "--integrator", "rk4",
+                             "--dt", "2", "--sample", "2", "--t-end",
+                             "1000", "-q", "--out", path, NULL};
     result r;
     csv c;
     int i, j;
@@ -569,6 +570,36 @@ static void case_methods(void)
         free(c.v);
         result_free(&r);
     }
+}
+
+/* With no --integrator the method is erk, error-controlled: the summary
+ * names it, its steps are its own (not t-end / dt), and the rows match
+ * the closed-form checks of check_sp_csv; --integrator rk4 still takes
+ * its fixed steps of --dt. */
+static void case_default_method(void)
+{
+    char path[300];
+    const char *dflt[] = {"spring-pendulum", "--t-end", "2", "--out", path,
+                          NULL};
+    const char *rk4[] = {"spring-pendulum", "--t-end", "2", "--integrator",
+                         "rk4", "--out", path, NULL};
+    result r;
+    csv c;
+    scratch(path, sizeof path, "out.csv");
+    CHECK_INT(run_csv(&c, dflt, &r), 0);
+    CHECK_HAS(r.err, "spring-pendulum with erk: ");
+    CHECK_INT(number_after(r.err, "with erk: "), 201);
+    CHECK(number_after(r.err, "steps ") > 0 &&
+          number_after(r.err, "steps ") < 2000);
+    CHECK_INT(c.nrows, 201);
+    check_sp_csv(&c, &sp_default, 0.01, 2.0, 0, 1e-6);
+    free(c.v);
+    result_free(&r);
+    CHECK_INT(run_csv(&c, rk4, &r), 0);
+    CHECK_HAS(r.err, "spring-pendulum with rk4: ");
+    CHECK_INT(number_after(r.err, "steps "), 2000);
+    free(c.v);
+    result_free(&r);
 }
 
 /* bdf's steps over 1 s from the summary, with extra options */
@@ -652,6 +683,7 @@ static const struct {
     {"grid", case_grid},       {"set", case_set},
     {"usage", case_usage},     {"failure", case_failure},
     {"methods", case_methods}, {"tolerances", case_tolerances},
+    {"default-method", case_default_method},
 };
 
 int main(int argc, char **argv)

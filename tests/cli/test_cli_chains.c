@@ -352,8 +352,9 @@ static void case_csv(void)
      * step, 0.2 s / 1e-3) and the projection's tolerance (|phi| after a
      * step, which no row shows, is at most 1e-12) */
     {
-        const char *loud[] = {"closed-chain", "--t-end", "0.2", "--sample",
-                              "0.05", "--out", path, NULL};
+        const char *loud[] = {"closed-chain", "--integrator", "rk4",
+                              "--t-end", "0.2", "--sample", "0.05", "--out",
+                              path, NULL};
         double drift = 0.0, phi = 0.0, phid = 0.0, summ;
         int i, cE, cW, cp, cd;
         CHECK_INT(run_csv(&c, loud, &r), 0);
