@@ -74,6 +74,8 @@ void tp__rec_release(tp_rec *r)
                &r->kept_params);
     free_named(r, &r->outs, &r->n_outs, &r->cap_outs, &r->kept_outs);
     free_named(r, &r->over, &r->n_over, &r->cap_over, NULL);
+    tp__index_free(&r->al, &r->param_index);
+    tp__index_free(&r->al, &r->out_index);
 }
 
 int tp__rec_fail(tp_rec *r, int status, const char *fmt, ...)
@@ -267,7 +269,8 @@ tp_val tp_param(tp_rec *r, const char *name, double dflt)
     if (r->params_in_order && r->n_params < r->prev_params &&
         strcmp(r->params[r->n_params].name, name) == 0)
         p = NULL;
-    else if ((p = find_named(r->params, r->n_params, name)) == NULL)
+    else if ((p = tp__index_find(&r->al, &r->param_index, r->params,
+                                 r->n_params, name)) == NULL)
         r->params_in_order = false;
     if (p) {
         /* NaN defaults compare unequal; treat identical bits as equal. */
@@ -302,7 +305,7 @@ int tp_output(tp_rec *r, const char *name, tp_val v)
     if (!writable(r, "tp_output") || !valid_name(r, name, "tp_output") ||
         !check_val(r, v, "tp_output", 1))
         return r->status;
-    if (find_named(r->outs, r->n_outs, name))
+    if (tp__index_find(&r->al, &r->out_index, r->outs, r->n_outs, name))
         return tp__rec_fail(r, TP_ERR_NAME,
                             "tp_output: output '%s' declared twice", name);
     if (!push_named(r, &r->outs, &r->n_outs, &r->cap_outs, &r->kept_outs,
@@ -322,6 +325,8 @@ static void fresh_run(tp_rec *r)
     r->params_in_order = true;
     clear_named(&r->n_params, &r->kept_params);
     clear_named(&r->n_outs, &r->kept_outs);
+    tp__index_reset(&r->param_index);
+    tp__index_reset(&r->out_index);
 }
 
 int tp_rec_run(tp_rec *r, const double *x, tp_func f, void *user)

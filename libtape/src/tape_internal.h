@@ -110,6 +110,20 @@ typedef struct tp_named {
     uint32_t id;  /* backend id */
 } tp_named;
 
+/* A hash index over a list of names (name_index.c). */
+#define TP_INDEX_MIN 32 /* shorter lists are scanned */
+typedef struct tp_name_index {
+    uint32_t *slot; /* entry index + 1, 0 empty; cap entries */
+    size_t cap;     /* a power of 2, or 0 */
+    size_t count;   /* the list's first count entries are in it */
+} tp_name_index;
+/* The entry of v[0 .. n) named name, or NULL. */
+tp_named *tp__index_find(const tp_allocator *al, tp_name_index *ix,
+                         tp_named *v, size_t n, const char *name);
+/* Forget the entries (the list was emptied); free the table. */
+void tp__index_reset(tp_name_index *ix);
+void tp__index_free(const tp_allocator *al, tp_name_index *ix);
+
 /* The common part of every context; backends embed it first. */
 struct tp_rec {
     const tp_backend *be;
@@ -134,6 +148,7 @@ struct tp_rec {
     bool params_in_order;
     tp_named *over; /* evaluators: parameter overrides by name */
     size_t n_over, cap_over;
+    tp_name_index param_index, out_index; /* over params, outs */
 };
 
 /* Initialize / release the common part. */
