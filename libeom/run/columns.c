@@ -42,12 +42,17 @@ void eom_run_columns_free(eom_run_columns **c)
     *c = NULL;
 }
 
+static int by_name(const void *a, const void *b)
+{
+    return strcmp(*(char *const *)a, *(char *const *)b);
+}
+
 int eom_run_columns_new(eom_run_columns **out, const eom_system *s,
                         unsigned extra, char *err, size_t errlen)
 {
     static const char *const fixed[] = {"T", "V", "E", "W"};
     eom_run_columns *c = calloc(1, sizeof *c);
-    int i, j, k = 0;
+    int i, k = 0;
     *out = NULL;
     if (!c)
         goto nomem;
@@ -104,15 +109,28 @@ int eom_run_columns_new(eom_run_columns **out, const eom_system *s,
     for (i = 0; i < c->count; i++)
         if (!c->names[i])
             goto nomem;
-    for (i = 0; i < c->count; i++)
-        for (j = i + 1; j < c->count; j++)
-            if (strcmp(c->names[i], c->names[j]) == 0) {
-                snprintf(err, errlen, "the CSV column name '%s' appears "
-                         "twice (a coordinate or probe is named like "
-                         "another column)", c->names[i]);
-                eom_run_columns_free(&c);
-                return -1;
-            }
+    /* duplicates: neighbours once sorted (n log n: a model may have tens
+     * of thousands of columns) */
+    if (c->count > 1) {
+        char **sorted = malloc((size_t)c->count * sizeof *sorted);
+        const char *twice = NULL;
+        if (!sorted)
+            goto nomem;
+        memcpy(sorted, c->names, (size_t)c->count * sizeof *sorted);
+        qsort(sorted, (size_t)c->count, sizeof *sorted, by_name);
+        for (i = 1; i < c->count && !twice; i++)
+            if (strcmp(sorted[i - 1], sorted[i]) == 0)
+                twice = sorted[i];
+        if (twice) {
+            snprintf(err, errlen, "the CSV column name '%s' appears twice "
+                     "(a coordinate or probe is named like another column)",
+                     twice);
+            free(sorted);
+            eom_run_columns_free(&c);
+            return -1;
+        }
+        free(sorted);
+    }
     *out = c;
     return 0;
 nomem:

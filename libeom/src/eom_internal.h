@@ -86,8 +86,20 @@ typedef struct eom_attached {
     void (*free_fn)(void *);
 } eom_attached;
 
+/* One name of a model in its hash index: which list holds it and where
+ * (name NULL: an empty slot). */
+typedef struct eom_name_slot {
+    const char *name; /* the entry's own copy */
+    int list;         /* 0 coordinates, 1 parameters, 2 probes */
+    int index;
+} eom_name_slot;
+
 struct eom_model {
     eom_named *coords, *params, *probes;
+    eom_name_slot *names; /* every name above, hashed: a model with tens
+                             of thousands checks each new one in constant
+                             time; at most half full */
+    int names_cap, names_used;
     int n_coords, n_params, n_probes;
     int cap_coords, cap_params, cap_probes;
     eom_cblist T, V, R, phi;

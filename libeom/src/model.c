@@ -77,6 +77,7 @@ void eom_model_free(eom_model **m)
     free_named((*m)->coords, (*m)->n_coords);
     free_named((*m)->params, (*m)->n_params);
     free_named((*m)->probes, (*m)->n_probes);
+    free((*m)->names);
     free((*m)->T.v);
     free((*m)->V.v);
     free((*m)->R.v);
@@ -144,13 +145,57 @@ static bool valid_name(const char *s)
     return !(n >= 4 && strcmp(s + n - 4, "_dot") == 0);
 }
 
-static int find(const eom_named *v, int n, const char *name)
+static unsigned name_hash(const char *s)
 {
-    int i;
-    for (i = 0; i < n; i++)
-        if (strcmp(v[i].name, name) == 0)
-            return i;
-    return -1;
+    unsigned h = 2166136261u;
+    while (*s)
+        h = (h ^ (unsigned char)*s++) * 16777619u;
+    return h ^ (h >> 15);
+}
+
+/* The slot of name in m's index, or NULL. */
+static const eom_name_slot *name_find(const eom_model *m, const char *name)
+{
+    unsigned h;
+    if (!m->names)
+        return NULL;
+    for (h = name_hash(name) & (unsigned)(m->names_cap - 1);
+         m->names[h].name; h = (h + 1) & (unsigned)(m->names_cap - 1))
+        if (strcmp(m->names[h].name, name) == 0)
+            return &m->names[h];
+    return NULL;
+}
+
+static void name_put(eom_name_slot *t, int cap, eom_name_slot e)
+{
+    unsigned h = name_hash(e.name) & (unsigned)(cap - 1);
+    while (t[h].name)
+        h = (h + 1) & (unsigned)(cap - 1);
+    t[h] = e;
+}
+
+/* Index name (the entry's copy) as entry index of list; 0 or -1. */
+static int name_add(eom_model *m, const char *name, int list, int index)
+{
+    eom_name_slot e;
+    if (2 * (m->names_used + 1) > m->names_cap) {
+        int cap = m->names_cap ? 2 * m->names_cap : 64, k;
+        eom_name_slot *t = calloc((size_t)cap, sizeof *t);
+        if (!t)
+            return -1;
+        for (k = 0; k < m->names_cap; k++)
+            if (m->names[k].name)
+                name_put(t, cap, m->names[k]);
+        free(m->names);
+        m->names = t;
+        m->names_cap = cap;
+    }
+    e.name = name;
+    e.list = list;
+    e.index = index;
+    name_put(m->names, m->names_cap, e);
+    m->names_used++;
+    return 0;
 }
 
 /* Append an entry to one of the model's lists; its index or a status. */
@@ -163,9 +208,7 @@ static int add_named(eom_model *m, eom_named **v, int *n, int *cap,
         return model_fail(m, EOM_ERR_NAME,
                           "%s name '%s' is not a C identifier (or ends in "
                           "_dot)", kind, name ? name : "(null)");
-    if (find(m->coords, m->n_coords, name) >= 0 ||
-        find(m->params, m->n_params, name) >= 0 ||
-        find(m->probes, m->n_probes, name) >= 0)
+    if (name_find(m, name))
         return model_fail(m, EOM_ERR_NAME, "%s name '%s' is already used",
                           kind, name);
     if (*n == *cap) {
@@ -180,7 +223,9 @@ static int add_named(eom_model *m, eom_named **v, int *n, int *cap,
     e.name = dup_or_empty(name);
     e.unit = dup_or_empty(unit);
     e.description = dup_or_empty(desc);
-    if (!e.name || !e.unit || !e.description) {
+    if (!e.name || !e.unit || !e.description ||
+        name_add(m, e.name, v == &m->coords ? 0 : v == &m->params ? 1 : 2,
+                 *n) != 0) {
         free(e.name);
         free(e.unit);
         free(e.description);
@@ -504,7 +549,10 @@ tp_val eom_param(eom_ctx *c, const char *name)
     int k;
     if (!c)
         return ctx_bad(c, "eom_param: NULL context");
-    k = name ? find(c->m->params, c->m->n_params, name) : -1;
+    {
+        const eom_name_slot *e = name ? name_find(c->m, name) : NULL;
+        k = e && e->list == 1 ? e->index : -1;
+    }
     if (k < 0)
         return ctx_bad(c, "eom_param: no parameter named '%s'",
                        name ? name : "(null)");

@@ -1,0 +1,124 @@
+/* test_model_large.c - models with very many names build in time linear
+ * in them (names are hashed and the CSV's columns checked for duplicates
+ * sorted): 100,000 probes, and thousands of parameters and outputs, with
+ * the duplicates among them still found. The bound is the test's timeout
+ * (60 s; the quadratic checks took about 2 minutes for the probes), never
+ * a timed assertion.
+ *
+ * usage: test_model_large */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "eom/model_file.h"
+#include "eom/run.h"
+
+/* A recorder's names past the length where they are hashed: a second
+ * output of one name and a parameter declared again with another default
+ * are refused, one with the same default gives the same value. */
+static int many_names(tp_rec *r, void *user)
+{
+    char name[32];
+    tp_val x = tp_indep(r, 0), p0 = tp_param(r, "p0", 1.0), again;
+    int k;
+    (void)user;
+    for (k = 1; k < 3000; k++) {
+        snprintf(name, sizeof name, "p%d", k);
+        x = tp_add(r, x, tp_param(r, name, (double)k));
+    }
+    again = tp_param(r, "p1717", 1717.0);
+    CHECK(tp_rec_status(r) == TP_OK);
+    (void)again;
+    (void)p0;
+    for (k = 0; k < 3000; k++) {
+        snprintf(name, sizeof name, "y%d", k);
+        tp_output(r, name, x);
+    }
+    CHECK(tp_rec_status(r) == TP_OK);
+    tp_output(r, "y2999", x);
+    CHECK_INT(tp_rec_status(r), TP_ERR_NAME);
+    return 0;
+}
+
+static int param_again(tp_rec *r, void *user)
+{
+    char name[32];
+    tp_val x = tp_indep(r, 0);
+    int k;
+    (void)user;
+    for (k = 0; k < 100; k++) {
+        snprintf(name, sizeof name, "q%d", k);
+        x = tp_add(r, x, tp_param(r, name, 1.0));
+    }
+    tp_param(r, "q77", 2.0);
+    CHECK_INT(tp_rec_status(r), TP_ERR_NAME);
+    return tp_output(r, "y", x) == TP_OK ? 0 : 1;
+}
+
+static void recorder_names(void)
+{
+    tp_rec *r = NULL;
+    int run;
+    /* the evaluator runs twice: the index starts again with each run */
+    CHECK_INT(tp_evaluator_new(&r, 1, NULL), TP_OK);
+    for (run = 0; run < 2; run++) {
+        const double x = 0.5;
+        tp_rec_run(r, &x, many_names, NULL);
+    }
+    tp_rec_free(&r);
+    CHECK_INT(tp_recorder_new(&r, 1, NULL, NULL), TP_OK);
+    tp_rec_run(r, NULL, param_again, NULL);
+    tp_rec_free(&r);
+}
+
+static void many_probes(void)
+{
+    const int n = 100000;
+    char *text = malloc(256), err[2048];
+    eom_model *m = NULL;
+    eom_system *s = NULL;
+    eom_run_columns *c = NULL;
+    snprintf(text, 256, "units off\nparam m = 1\ncoord x = 0.5\n"
+                        "T = 1/2*m*x_dot^2\nprobe p[j in 1..%d] = j*x\n", n);
+    if (eom_model_from_string(&m, text, err, sizeof err) != EOM_OK ||
+        eom_system_new(&s, m, err, sizeof err) != EOM_OK) {
+        CHECK_FAIL_("%s", err);
+    } else {
+        double xs[2] = {0.5, 0.0}, *p = malloc((size_t)n * sizeof *p);
+        CHECK_INT(eom_system_nprobes(s), n);
+        CHECK_INT(eom_probes_at(s, xs, p), EOM_OK);
+        CHECK(p[n - 1] == n * 0.5);
+        free(p);
+        CHECK_INT(eom_run_columns_new(&c, s, 0, err, sizeof err), 0);
+        eom_run_columns_free(&c);
+    }
+    eom_system_free(&s);
+    eom_model_free(&m);
+    free(text);
+}
+
+/* A probe named like a coordinate, among thousands: found. */
+static void duplicate_among_many(void)
+{
+    eom_model *m = NULL;
+    char name[32];
+    int k;
+    CHECK_INT(eom_model_new(&m), EOM_OK);
+    for (k = 0; k < 5000; k++) {
+        snprintf(name, sizeof name, "q%d", k);
+        CHECK(eom_model_add_coord(m, name, NULL, 0.0, 0.0) == k);
+    }
+    CHECK(eom_model_add_param(m, "q4321", NULL, 1.0, NULL) ==
+          EOM_ERR_NAME);
+    CHECK(strstr(eom_model_errmsg(m), "q4321") != NULL);
+    eom_model_free(&m);
+}
+
+int main(void)
+{
+    recorder_names();
+    many_probes();
+    duplicate_among_many();
+    CHECK_DONE();
+}
