@@ -83,14 +83,14 @@ int modes_report(FILE *f, eom_system *s, const double *x0,
         fprintf(stderr, "eom-run: out of memory\n");
         return 1;
     }
-    memcpy(q, x0, (size_t)n * sizeof(double));
-    rc = eom_equilibrium(s, q, MODES_EQ_TOL, &iters);
-    if (rc == EOM_ERR_MODEL && strstr(eom_system_errmsg(s), "velocity")) {
+    if (eom_system_nvelocity_constraints(s) > 0) {
         /* no equilibrium search with velocity constraints: the start
          * itself, at rest or moving steadily */
         free(q);
         return modes_steady_report(f, s, x0, NULL, 0, label);
     }
+    memcpy(q, x0, (size_t)n * sizeof(double));
+    rc = eom_equilibrium(s, q, MODES_EQ_TOL, &iters);
     if (rc == EOM_ERR_MODEL) {
         fprintf(stderr, "eom-run: %s: no static equilibrium to search: "
                 "%s\n", label, eom_system_errmsg(s));
