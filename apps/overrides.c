@@ -103,59 +103,31 @@ static void unknown_name(const override *o, const demo *d,
 int overrides_apply(const override *ov, int n, const demo *d, eom_system *s,
                     double *x, char *err, size_t errlen)
 {
-    static const char dot[] = "_dot";
-    const size_t ldot = sizeof dot - 1;
-    const int nc = eom_system_ncoords(s);
     char name[256];
-    int i, k, pass, nparams = 0;
-    /* pass 0: parameters; pass 1: the start, coordinates and rates */
-    for (pass = 0; pass < 2; pass++) {
-        if (pass == 1 && nparams > 0 && eom_initial_state(s, x) != EOM_OK) {
-            snprintf(err, errlen, "the initial state is not finite with "
-                     "these parameters");
+    int i, k, nparams = 0;
+    /* the parameters first: a model's start may follow them */
+    for (i = 0; i < n; i++) {
+        size_t len = ov[i].namelen;
+        if (demo_setting_index(d, ov[i].arg, len) >= 0 || len >= sizeof name)
+            continue;
+        memcpy(name, ov[i].arg, len);
+        name[len] = '\0';
+        if ((k = eom_param_index(s, name)) < 0)
+            continue;
+        if (eom_set_param(s, k, ov[i].value) != EOM_OK) {
+            snprintf(err, errlen, "--set '%s': %s", ov[i].arg,
+                     eom_system_errmsg(s));
             return -1;
         }
-        for (i = 0; i < n; i++) {
-            size_t len = ov[i].namelen;
-            if (demo_setting_index(d, ov[i].arg, len) >= 0)
-                continue;
-            k = -1;
-            if (len < sizeof name) {
-                memcpy(name, ov[i].arg, len);
-                name[len] = '\0';
-                if ((k = eom_param_index(s, name)) >= 0) {
-                    if (pass == 1)
-                        continue;
-                    if (eom_set_param(s, k, ov[i].value) != EOM_OK) {
-                        snprintf(err, errlen, "--set '%s': %s", ov[i].arg,
-                                 eom_system_errmsg(s));
-                        return -1;
-                    }
-                    nparams++;
-                    continue;
-                }
-                if (pass == 0)
-                    continue;
-                if ((k = eom_coord_index(s, name)) >= 0) {
-                    x[k] = ov[i].value;
-                    continue;
-                }
-                /* NAME_dot: coordinate names never end in _dot */
-                if (len > ldot && strcmp(name + len - ldot, dot) == 0) {
-                    name[len - ldot] = '\0';
-                    if ((k = eom_coord_index(s, name)) >= 0) {
-                        x[nc + k] = ov[i].value;
-                        continue;
-                    }
-                }
-            } else if (pass == 0) {
-                continue;
-            }
-            unknown_name(&ov[i], d, s, err, errlen);
-            return -1;
-        }
+        nparams++;
     }
-    return 0;
+    if (nparams > 0 && eom_initial_state(s, x) != EOM_OK) {
+        snprintf(err, errlen, "the initial state is not finite with these "
+                 "parameters");
+        return -1;
+    }
+    /* then the coordinates and rates, and every unknown name */
+    return overrides_apply_state(ov, n, d, s, x, err, errlen);
 }
 
 int overrides_apply_state(const override *ov, int n, const demo *d,
