@@ -266,6 +266,10 @@ struct eom_system {
 /* residual.c: record the residual tape from the system's tapes (at the
  * end of eom_system_new). */
 int eom__record_residual(eom_system *s);
+/* Eigenvalues (re, im; n) sorted by real part, then imaginary part; real
+ * parts within 1e-12 of the largest modulus count as equal, so rounding
+ * does not decide the order of a conjugate pair (linearize_state.c). */
+void eom__sort_eig(int n, double *re, double *im);
 /* residual.c: the exact Jacobian of the state derivative at (t, x), the
  * columns of A (leading dimension lda) for x = (q, qd): 2n rows, and with
  * with_power a row 2n for the dissipated energy W and a zero column 2n

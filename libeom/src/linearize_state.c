@@ -63,7 +63,7 @@ static void at_b(int rows, int ca, int cb, const double *A, const double *B,
 /* Eigenvalues sorted by real part, then imaginary part; real parts
  * within 1e-12 of the largest modulus count as equal, so that rounding
  * does not decide the order of a conjugate pair. */
-static void sort_eig(int n, double *re, double *im)
+void eom__sort_eig(int n, double *re, double *im)
 {
     double scale = 0.0, tol;
     int i, j;
@@ -157,7 +157,7 @@ static int eigenvalues(eom_system *s, eom_state_linear *lin)
         return eom__fail(s, EOM_ERR_LINALG,
                          "dgeev: the eigenvalues of the reduced state "
                          "matrix did not converge (info %d)", info);
-    sort_eig(nz, lin->eig_re, lin->eig_im);
+    eom__sort_eig(nz, lin->eig_re, lin->eig_im);
     return EOM_OK;
 }
 

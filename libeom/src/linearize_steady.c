@@ -147,7 +147,7 @@ done:
 static int eig(eom_system *s, int k, const double *A, double *re, double *im)
 {
     int lwork = -1, info = 0, one = 1, i, j;
-    double query = 0.0, dummy = 0.0, *a, *work, big = 0.0, tol;
+    double query = 0.0, dummy = 0.0, *a, *work;
     if (k == 0)
         return EOM_OK;
     a = malloc((size_t)k * k * sizeof *a);
@@ -173,20 +173,7 @@ static int eig(eom_system *s, int k, const double *A, double *re, double *im)
         return eom__fail(s, EOM_ERR_LINALG,
                          "dgeev: the eigenvalues of the steady motion's "
                          "reduced matrix did not converge (info %d)", info);
-    for (i = 0; i < k; i++)
-        big = fmax(big, hypot(re[i], im[i]));
-    tol = 1e-12 * big;
-    for (i = 1; i < k; i++)
-        for (j = i; j > 0 && (re[j] < re[j - 1] - tol ||
-                              (fabs(re[j] - re[j - 1]) <= tol &&
-                               im[j] < im[j - 1]));
-             j--) {
-            double u = re[j], v = im[j];
-            re[j] = re[j - 1];
-            im[j] = im[j - 1];
-            re[j - 1] = u;
-            im[j - 1] = v;
-        }
+    eom__sort_eig(k, re, im);
     return EOM_OK;
 }
 
