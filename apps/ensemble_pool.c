@@ -165,10 +165,26 @@ out:
     r->wall = now() - t0;
 }
 
+int ensemble_job_stopped(const ensemble_job *job)
+{
+    return job->halt || (job->stop && *job->stop);
+}
+
+void ensemble_job_halt(ensemble_job *job)
+{
+    pthread_mutex_lock(&job->lock);
+    job->halt = 1;
+    pthread_mutex_unlock(&job->lock);
+}
+
 long ensemble_job_next(ensemble_job *job)
 {
     long i;
     pthread_mutex_lock(&job->lock);
+    if (ensemble_job_stopped(job)) {
+        pthread_mutex_unlock(&job->lock);
+        return -1;
+    }
     while (job->next < job->runs->nruns && job->skip &&
            job->skip[job->next])
         job->next++;
@@ -249,10 +265,24 @@ int ensemble_pool_start(ensemble_job *job, int threads, pthread_t *th)
     return started;
 }
 
-void ensemble_pool_wait(ensemble_job *job, long i)
+int ensemble_pool_wait(ensemble_job *job, long i)
 {
+    int done;
     pthread_mutex_lock(&job->lock);
-    while (!job->res[i].done)
-        pthread_cond_wait(&job->cond, &job->lock);
+    while (!job->res[i].done &&
+           !(ensemble_job_stopped(job) && i >= job->next)) {
+        /* a signal cannot wake a condition (a handler may not broadcast):
+         * look at the flag ten times a second */
+        struct timespec ts;
+        clock_gettime(CLOCK_REALTIME, &ts);
+        ts.tv_nsec += 100000000L;
+        if (ts.tv_nsec >= 1000000000L) {
+            ts.tv_sec++;
+            ts.tv_nsec -= 1000000000L;
+        }
+        pthread_cond_timedwait(&job->cond, &job->lock, &ts);
+    }
+    done = job->res[i].done;
     pthread_mutex_unlock(&job->lock);
+    return done;
 }

@@ -8,6 +8,7 @@
 #define APPS_ENSEMBLE_POOL_H
 
 #include <pthread.h>
+#include <signal.h>
 
 #include "ensemble_runs.h"
 #include "eom/eom.h"
@@ -35,9 +36,12 @@ typedef struct ensemble_job {
     const char *traj_dir;      /* write DIR/run-K.csv for each run, or NULL */
     const char *label;
     const unsigned char *skip; /* [nruns] already in the summary */
+    const volatile sig_atomic_t *stop; /* NULL, or non-zero when a
+                                  signal asked to stop (cli_stop.h) */
     /* shared, under lock */
     run_result *res;           /* [nruns] */
-    long next;
+    long next;                 /* runs below it were handed out */
+    int halt;                  /* hand out no more runs (a write failed) */
     pthread_mutex_t lock;
     pthread_cond_t cond;
 } ensemble_job;
@@ -50,8 +54,8 @@ ensemble_worker *ensemble_worker_new(ensemble_job *job);
 void ensemble_worker_free(ensemble_worker **w);
 /* Run i of job->runs on w into *r (r->done is left to the caller). */
 void ensemble_worker_run(ensemble_worker *w, long i, run_result *r);
-/* The next run not yet handed out and not skipped, or -1 (under
- * job->lock). */
+/* The next run not yet handed out and not skipped, or -1: none left,
+ * or the job stopped (ensemble_job_stopped). Takes job->lock. */
 long ensemble_job_next(ensemble_job *job);
 
 /* Start threads workers on job (job->res allocated, job->next = 0, the
@@ -61,7 +65,15 @@ long ensemble_job_next(ensemble_job *job);
  * others carry on), 0 if none. */
 int ensemble_pool_start(ensemble_job *job, int threads, pthread_t *th);
 
-/* Wait until run i is done (under job->lock). */
-void ensemble_pool_wait(ensemble_job *job, long i);
+/* Whether the job hands out no more runs: *job->stop is set or
+ * job->halt (call under job->lock). */
+int ensemble_job_stopped(const ensemble_job *job);
+
+/* Stop handing out runs (a write failed): the runs under way finish. */
+void ensemble_job_halt(ensemble_job *job);
+
+/* Wait until run i is done: 1, or 0 when it never will be (the job
+ * stopped before handing it out). Takes job->lock. */
+int ensemble_pool_wait(ensemble_job *job, long i);
 
 #endif /* APPS_ENSEMBLE_POOL_H */

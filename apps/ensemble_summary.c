@@ -91,8 +91,8 @@ static void put_text(FILE *f, const char *s)
     fputc('"', f);
 }
 
-void ensemble_summary_row(FILE *f, const ensemble_runs *runs, long i, int n,
-                          const run_result *r)
+static void summary_row(FILE *f, const ensemble_runs *runs, long i, int n,
+                        const run_result *r)
 {
     int k;
     fprintf(f, "%ld", i);
@@ -116,6 +116,75 @@ void ensemble_summary_row(FILE *f, const ensemble_runs *runs, long i, int n,
     fputc(',', f);
     put_text(f, r->msg);
     fputc('\n', f);
+}
+
+/* The row is formatted in memory and written with write(2) straight to
+ * the file's descriptor (the stream's buffer is empty since
+ * ensemble_summary_open flushed it): a failed write is seen at once,
+ * and the file is cut back to its last whole row, which a buffered
+ * stream, holding the rest of the row, could not promise. */
+int ensemble_summary_put(FILE *f, const char *path, const ensemble_runs *runs,
+                         long i, int n, const run_result *r)
+{
+    const int fd = fileno(f);
+    const off_t at = lseek(fd, 0, SEEK_CUR);
+    char *buf = NULL;
+    size_t len = 0, off = 0;
+    FILE *m = open_memstream(&buf, &len);
+    int errnum = 0;
+    if (!m) {
+        fprintf(stderr, "eom-ensemble: cannot write '%s': out of memory\n",
+                path);
+        return -1;
+    }
+    summary_row(m, runs, i, n, r);
+    if (fclose(m) != 0) {
+        free(buf);
+        fprintf(stderr, "eom-ensemble: cannot write '%s': out of memory\n",
+                path);
+        return -1;
+    }
+    while (off < len) {
+        const ssize_t k = write(fd, buf + off, len - off);
+        if (k < 0 && errno == EINTR)
+            continue;
+        if (k <= 0) {
+            errnum = k < 0 ? errno : EIO;
+            break;
+        }
+        off += (size_t)k;
+    }
+    free(buf);
+    if (errnum == 0)
+        return 0;
+    fprintf(stderr, "eom-ensemble: cannot write '%s': %s (it keeps the "
+            "whole rows before run %ld; the runs not started are not "
+            "run)\n", path, strerror(errnum), i);
+    if (at >= 0 && ftruncate(fd, at) == 0)
+        (void)lseek(fd, at, SEEK_SET);
+    return -1;
+}
+
+int ensemble_summary_close(FILE **fp, const char *path, int speak)
+{
+    FILE *f = *fp;
+    int errnum = 0;
+    if (!f)
+        return 0;
+    *fp = NULL;
+    errno = 0;
+    if (fflush(f) != 0 ||
+        (fsync(fileno(f)) != 0 && errno != EINVAL && errno != EROFS))
+        errnum = errno ? errno : EIO;
+    errno = 0;
+    if (fclose(f) != 0 && errnum == 0)
+        errnum = errno ? errno : EIO;
+    if (errnum == 0)
+        return 0;
+    if (speak)
+        fprintf(stderr, "eom-ensemble: cannot write '%s': %s\n", path,
+                strerror(errnum));
+    return -1;
 }
 
 /* ---- the inputs record ------------------------------------------------ */
@@ -451,7 +520,13 @@ FILE *ensemble_summary_open(const char *path, int resume, const char *head,
         if (!f)
             goto fail;
         fd = -1;
-        fputs(head, f);
+        /* on the disk now: the rows are written past the stream */
+        errno = 0;
+        if (fputs(head, f) == EOF || fflush(f) != 0) {
+            fprintf(stderr, "eom-ensemble: cannot write '%s': %s\n", path,
+                    strerror(errno ? errno : EIO));
+            goto fail;
+        }
         free(rec_path);
         return f;
     }

@@ -22,9 +22,18 @@
  * string (the caller frees it; any length), or NULL when out of memory. */
 char *ensemble_summary_header(const ensemble_runs *runs, const eom_system *s);
 
-/* Write run i's row (n coordinates) to f. */
-void ensemble_summary_row(FILE *f, const ensemble_runs *runs, long i, int n,
-                          const run_result *r);
+/* Write run i's row (n coordinates) to f, the summary that
+ * ensemble_summary_open returned, at once (no buffer). 0, or -1 after
+ * one message on standard error naming path and the reason (strerror:
+ * "No space left on device"); the file is then cut back to the whole
+ * rows before this one. */
+int ensemble_summary_put(FILE *f, const char *path, const ensemble_runs *runs,
+                         long i, int n, const run_result *r);
+
+/* Sync (fsync) and close *f, which becomes NULL. 0, or -1 after a message
+ * naming path and the reason when speak is set (a caller that has
+ * already reported a failed write passes 0: said once). */
+int ensemble_summary_close(FILE **f, const char *path, int speak);
 
 /* The SHA-256 of the file at path as "sha256:HEX" into out (72 bytes);
  * 0, or -1 with a message in err. */
@@ -45,7 +54,9 @@ int ensemble_file_digest(const char *path, char out[72], char *err,
  *     (otherwise the message names the line). A last line cut short is
  *     dropped. skip[i] is set for the runs found and *ndone counts them.
  * n: the system's coordinates. Returns the file positioned for appending
- * rows, or NULL after a message on standard error. */
+ * rows (its buffer flushed: write rows with ensemble_summary_put), or
+ * NULL after a message on standard error (naming the reason when the
+ * header cannot be written). */
 FILE *ensemble_summary_open(const char *path, int resume, const char *head,
                             const char *inputs, const ensemble_runs *runs,
                             int n, unsigned char *skip, long *ndone);

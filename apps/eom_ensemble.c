@@ -9,7 +9,10 @@
  * summary.
  *
  * Exit status: 0 every run succeeded, 1 some run failed (the summary says
- * which) or the ensemble could not start, 2 the command line is wrong. */
+ * which), the ensemble could not start or the summary could not be
+ * written, 2 the command line is wrong, 128 + N stopped by signal N
+ * (SIGTERM, SIGINT, SIGHUP: the runs under way finish and are written,
+ * --resume does the rest). */
 #define _GNU_SOURCE /* getopt_long */
 #include <getopt.h>
 #include <math.h>
@@ -23,6 +26,7 @@
 #include <unistd.h>
 
 #include "cli_args.h"
+#include "cli_stop.h"
 #include "demos/demos.h"
 #include "demos/file_demo.h"
 #include "ensemble_pool.h"
@@ -135,7 +139,9 @@ static void help(void)
         "  -q, --quiet           no progress line and no summary line\n"
         "\nExit status: 0 every run succeeded, 1 some run failed (see the "
         "summary's\nstatus and message columns) or the ensemble could not "
-        "start, 2 the command\nline is wrong. See docs/ensembles.md.\n");
+        "start, 2 the command\nline is wrong, 128 + N stopped by signal N "
+        "(SIGTERM, SIGINT, SIGHUP: the runs\nunder way are written, "
+        "--resume does the rest). See docs/ensembles.md.\n");
 }
 
 static int parse(int argc, char **argv, cli *c)
@@ -319,19 +325,22 @@ static double now(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-/* Wait until run i is done: with other ranks, serving them meanwhile. */
-static void wait_for(ensemble_job *job, long i, int *active)
+/* Wait until run i is done (with other ranks, serving them meanwhile):
+ * 1, or 0 when it never will be (the job stopped before handing it
+ * out). */
+static int wait_for(ensemble_job *job, long i, int *active)
 {
 #ifdef EOM_ENSEMBLE_MPI
     if (g_size > 1) {
         const struct timespec nap = {0, 500000}; /* 0.5 ms */
         for (;;) {
-            int done;
+            int done, never;
             pthread_mutex_lock(&job->lock);
             done = job->res[i].done;
+            never = !done && ensemble_job_stopped(job) && i >= job->next;
             pthread_mutex_unlock(&job->lock);
-            if (done)
-                return;
+            if (done || never)
+                return done;
             if (!ensemble_mpi_serve(job, active))
                 nanosleep(&nap, NULL);
         }
@@ -339,7 +348,7 @@ static void wait_for(ensemble_job *job, long i, int *active)
 #else
     (void)active;
 #endif
-    ensemble_pool_wait(job, i);
+    return ensemble_pool_wait(job, i);
 }
 
 /* Tell every other rank that there is nothing left. */
@@ -368,6 +377,7 @@ static int run(cli *c, const demo *d)
     char err[4096], *head = NULL, *inputs = NULL;
     long i, ndone = 0, failed = 0, written = 0;
     int status = EXIT_RUN, n, k, started = 0, tty, active = g_size - 1;
+    int wrote = 0; /* 0, or -1 once a row could not be written */
 #ifdef EOM_ENSEMBLE_MPI
     int setup_ok = 0;
 #endif
@@ -445,6 +455,10 @@ static int run(cli *c, const demo *d)
         goto done;
     }
     if (g_rank == 0) {
+        /* SIGTERM, SIGINT and SIGHUP: no more runs are started, those
+         * under way finish and are written (cli_stop.h). Other ranks keep
+         * the default: rank 0 tells them when to stop */
+        cli_stop_install();
         /* locked until the end; with --resume, checked against this
          * ensemble's inputs and runs */
         inputs = inputs_record(c, d, c->model);
@@ -466,6 +480,7 @@ static int run(cli *c, const demo *d)
     job.traj_dir = c->traj;
     job.label = d->name;
     job.skip = skip;
+    job.stop = &cli_stop_signal;
     pthread_mutex_init(&job.lock, NULL);
     pthread_cond_init(&job.cond, NULL);
 #ifdef EOM_ENSEMBLE_MPI
@@ -491,27 +506,29 @@ static int run(cli *c, const demo *d)
         goto destroy;
     }
     tty = !c->quiet && isatty(STDERR_FILENO);
-    /* rows in run order, as the runs finish */
+    /* rows in run order, as the runs finish, each on the disk before the
+     * next (ensemble_summary_put): the first write that fails stops the
+     * ensemble, and so does a signal */
     for (i = 0; i < runs.nruns; i++) {
         if (skip[i])
             continue;
-        wait_for(&job, i, &active);
-        ensemble_summary_row(f, &runs, i, n, &job.res[i]);
+        if (!wait_for(&job, i, &active))
+            break; /* stopped before run i started */
+        wrote = ensemble_summary_put(f, c->out, &runs, i, n, &job.res[i]);
+        if (wrote != 0) {
+            ensemble_job_halt(&job); /* the runs not started are not run */
+            break;
+        }
         failed += !job.res[i].ok;
         written++;
         free(job.res[i].final);
         job.res[i].final = NULL;
-        if (ferror(f)) {
-            fprintf(stderr, "eom-ensemble: cannot write '%s'\n", c->out);
-            break;
-        }
         if (tty) {
             const double el = now() - t0;
             const long todo = runs.nruns - ndone - written;
             fprintf(stderr, "\reom-ensemble: %ld/%ld runs, %ld failed, "
                     "%.0f s left    ", ndone + written, runs.nruns, failed,
                     el / (double)written * (double)todo);
-            fflush(f);
         }
     }
     for (k = 0; k < started; k++)
@@ -519,12 +536,18 @@ static int run(cli *c, const demo *d)
     finish_ranks(&job, &active);
     if (tty)
         fprintf(stderr, "\r%70s\r", "");
-    if (fclose(f) != 0 || i < runs.nruns) {
-        f = NULL;
-        fprintf(stderr, "eom-ensemble: cannot write '%s'\n", c->out);
+    if (ensemble_summary_close(&f, c->out, wrote == 0) != 0 || wrote != 0)
+        goto destroy;
+    if (i < runs.nruns) { /* a signal stopped it */
+        const long left = runs.nruns - ndone - written;
+        fprintf(stderr, "eom-ensemble: %s: stopped by %s: %ld run%s "
+                "written to '%s', %ld not run (the same command with "
+                "--resume does them)\n", d->name,
+                cli_stop_name(cli_stop_signal), ndone + written,
+                ndone + written == 1 ? "" : "s", c->out, left);
+        status = 128 + cli_stop_signal;
         goto destroy;
     }
-    f = NULL;
     if (!c->quiet && g_size > 1)
         fprintf(stderr, "eom-ensemble: %s: %ld runs on %d rank%s (%d "
                 "thread%s on rank 0) in %.3g s, %ld failed\n", d->name,

@@ -13,7 +13,9 @@
  * Exit status: 0 success, 1 the run failed (model, initial projection,
  * integrator, output file, plots; with --modes: no equilibrium, or a
  * start that is not a steady motion), 2 the
- * command line is wrong (nothing was run or written). */
+ * command line is wrong (nothing was run or written), 128 + N stopped by
+ * signal N (SIGTERM, SIGINT, SIGHUP: the rows up to the stop are in
+ * FILE.partial, cli_stop.h). */
 #define _GNU_SOURCE /* getopt_long */
 #include <getopt.h>
 #include <stdarg.h>
@@ -24,6 +26,7 @@
 
 #include "eom/run.h"
 #include "cli_args.h"
+#include "cli_stop.h"
 #include "demos/demos.h"
 #include "demos/file_demo.h"
 #include "describe.h"
@@ -264,7 +267,8 @@ static void help(void)
         "during long runs when it is a terminal.\n"
         "\nExit status: 0 success, 1 the run failed (rows written so far are "
         "kept),\n"
-        "2 the command line is wrong.\n"
+        "2 the command line is wrong, 128 + N stopped by signal N (SIGTERM, "
+        "SIGINT,\nSIGHUP: the rows so far are kept in FILE.partial).\n"
         "\nExample: eom-run spring-pendulum --set k=100 --set theta_dot=0.3 "
         "--t-end 5 --out sp.csv\n"
         "See docs/cli.md, docs/csv.md, docs/demos.md and docs/models.md.\n");
@@ -846,7 +850,9 @@ static int run(cli *c, const demo *d)
                  base);
         c->out = default_out;
     }
-    /* every check is done: only now create or truncate the output */
+    /* every check is done: only now create or truncate the output; from
+     * here SIGTERM, SIGINT and SIGHUP stop the run after a whole row */
+    cli_stop_install();
     if (eom_csv_writer_open(&w, c->out, err, sizeof err) != 0) {
         fprintf(stderr, "eom-run: %s\n", err);
         goto done;
@@ -860,12 +866,16 @@ static int run(cli *c, const demo *d)
     plan.quiet = c->quiet;
     plan.extra = c->extra;
     plan.progress = isatty(STDERR_FILENO);
-    status = eom_run(s, x0, &plan, w) == 0 ? EXIT_SUCCESS : EXIT_RUN;
-    /* after a failure eom_run has said why; the writer says where the
-     * rows are (FILE.partial, FILE unchanged) */
+    plan.stop = &cli_stop_signal;
+    rc = eom_run(s, x0, &plan, w);
+    status = rc == 0 ? EXIT_SUCCESS : rc == 2 ? 128 + cli_stop_signal
+                                              : EXIT_RUN;
+    /* after a failure or a stop eom_run has said why; the writer says
+     * where the rows are (FILE.partial, FILE unchanged) */
     if (eom_csv_writer_close(&w, err, sizeof err) != 0) {
         fprintf(stderr, "eom-run: %s\n", err);
-        status = EXIT_RUN;
+        if (rc != 2)
+            status = EXIT_RUN;
     }
     if (status == EXIT_SUCCESS && c->plots) {
         /* gnuplot takes a while on long runs: say what is going on, on a

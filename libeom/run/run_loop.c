@@ -195,14 +195,21 @@ int eom_run(eom_system *s, const double *x0, const eom_run_opts *p,
     }
     if (p->opts.n_sens > 0 && emit(&r, 0.0, x, 0.0) != 0)
         goto done;
-    for (k = 1; k <= K; k++) {
-        const double tout = (double)k * p->sample;
+    for (k = 1; k <= K + !exact; k++) {
+        const double tout = k <= K ? (double)k * p->sample : p->t_end;
+        if (p->stop && *p->stop) { /* asked to stop: after a whole row */
+            char a[32];
+            eom_numtext_format(a, sizeof a, tprev);
+            progress_clear(&r.prog);
+            fprintf(stderr, "%s: %s: stopped at t = %s (signal %d)\n",
+                    PROG(p), LABEL(p), a, (int)*p->stop);
+            status = 2;
+            goto done;
+        }
         if (step_to(&r, it, tprev, tout, x, &W) != 0)
             goto done;
         tprev = tout;
     }
-    if (!exact && step_to(&r, it, tprev, p->t_end, x, &W) != 0)
-        goto done;
     status = 0;
 done:
     if (eom_csv_writer_flush(w, r.err, sizeof r.err) != 0 && status == 0) {

@@ -23,6 +23,7 @@
 #ifndef EOM_RUN_H
 #define EOM_RUN_H
 
+#include <signal.h>
 #include <stddef.h>
 
 #include "eom/eom.h"
@@ -177,6 +178,10 @@ typedef struct eom_run_opts {
     int quiet;         /* no summary */
     int progress;      /* draw a progress line on standard error (for a
                           terminal: the caller decides, e.g. isatty) */
+    const volatile sig_atomic_t *stop; /* NULL, or a flag (a signal
+                          handler's) read before each sample: when it is
+                          non-zero the run stops after its last whole row
+                          (eom_run returns 2) */
 } eom_run_opts;
 
 /* Defaults: t_end 10, sample 0.01, eom_opts_default, not quiet, no
@@ -200,7 +205,9 @@ EOM_API void eom_run_grid(double t_end, double sample, long long *K,
  * Returns 0, or 1 after a message on a failure (integrator, evaluation or
  * write): the rows before the failure are in w, and w is marked failed,
  * so that eom_csv_writer_close keeps them as PATH.partial and leaves PATH
- * as it was. */
+ * as it was. Returns 2 when *o->stop was found non-zero before a sample:
+ * a message says at which time, and w holds the whole rows up to it,
+ * marked failed as after a failure. */
 EOM_API int eom_run(eom_system *s, const double *x0, const eom_run_opts *o,
                     eom_csv_writer *w);
 
