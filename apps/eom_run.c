@@ -13,7 +13,9 @@
  * Exit status: 0 success, 1 the run failed (model, initial projection,
  * integrator, output file, plots; with --modes: no equilibrium, or a
  * start that is not a steady motion), 2 the
- * command line is wrong (nothing was run or written), 128 + N stopped by
+ * command line is wrong (nothing was run or written), 3 the run reached
+ * t_end but its health verdict failed (eom_run_judge; not with
+ * --accept-unhealthy), 128 + N stopped by
  * signal N (SIGTERM, SIGINT, SIGHUP: the rows up to the stop are in
  * FILE.partial, cli_stop.h). */
 #define _GNU_SOURCE /* getopt_long */
@@ -37,7 +39,7 @@
 #include "modes_sweep.h"
 #include "overrides.h"
 
-enum { EXIT_RUN = 1, EXIT_USAGE = CLI_EXIT_USAGE };
+enum { EXIT_RUN = 1, EXIT_USAGE = CLI_EXIT_USAGE, EXIT_UNHEALTHY = 3 };
 
 /* The largest t_end / sample accepted: beyond it the sample times k *
  * sample lose too much precision to be told apart reliably. */
@@ -65,6 +67,7 @@ typedef struct cli {
     int *sens;             /* their inputs (eom_opts.sens) */
     unsigned extra;        /* --columns: optional CSV columns */
     int compiled;          /* --compiled: run compiled tapes */
+    int accept_unhealthy;  /* --accept-unhealthy: exit 0 all the same */
 } cli;
 
 /* Long-only options get codes outside the range of characters. */
@@ -90,7 +93,8 @@ enum {
     OPT_COLUMNS,
     OPT_COMPILED,
     OPT_SWEEP,
-    OPT_INDEPENDENT
+    OPT_INDEPENDENT,
+    OPT_ACCEPT_UNHEALTHY
 };
 
 static const struct option long_options[] = {
@@ -120,6 +124,7 @@ static const struct option long_options[] = {
     {"sensitivity", required_argument, NULL, OPT_SENSITIVITY},
     {"columns", required_argument, NULL, OPT_COLUMNS},
     {"compiled", no_argument, NULL, OPT_COMPILED},
+    {"accept-unhealthy", no_argument, NULL, OPT_ACCEPT_UNHEALTHY},
     {"quiet", no_argument, NULL, 'q'},
     {NULL, 0, NULL, 0},
 };
@@ -257,18 +262,25 @@ static void help(void)
         "each parameter, or\n"
         "                        initial coordinate or rate (NAME_dot), "
         "named\n"
+        "      --accept-unhealthy\n"
+        "                        exit with 0 after a run whose health "
+        "verdict fails\n"
+        "                        (the verdict is still printed)\n"
         "  -q, --quiet           no summary, no progress line and no note "
         "about the plots\n"
         "                        on standard error\n"
         "\nA summary (steps, right-hand sides, wall time, energy drift, "
         "constraint\n"
-        "residual) ends every run on standard error; a progress line is drawn "
-        "there\n"
-        "during long runs when it is a terminal.\n"
+        "residual, and the run's health verdict) ends every run on standard "
+        "error;\na progress line is drawn "
+        "there during long runs when it is a terminal.\n"
         "\nExit status: 0 success, 1 the run failed (rows written so far are "
         "kept),\n"
-        "2 the command line is wrong, 128 + N stopped by signal N (SIGTERM, "
-        "SIGINT,\nSIGHUP: the rows so far are kept in FILE.partial).\n"
+        "2 the command line is wrong, 3 the run ended but is unhealthy: its "
+        "energy\ndrift, constraint residual or branch switches exceed what "
+        "its tolerance allows\n(docs/run.md, \"The verdict\"; the CSV is "
+        "written whole), 128 + N stopped by signal N\n(SIGTERM, "
+        "SIGINT, SIGHUP: the rows so far are kept in FILE.partial).\n"
         "\nExample: eom-run spring-pendulum --set k=100 --set theta_dot=0.3 "
         "--t-end 5 --out sp.csv\n"
         "See docs/cli.md, docs/csv.md, docs/demos.md and docs/models.md.\n");
@@ -657,6 +669,7 @@ static int parse(int argc, char **argv, cli *c)
             c->indep_arg = optarg;
             break;
         case OPT_COMPILED: c->compiled = 1; break;
+        case OPT_ACCEPT_UNHEALTHY: c->accept_unhealthy = 1; break;
         case OPT_SENSITIVITY:
             if (!optarg[0])
                 return cli_usage_error("--sensitivity: no name");
@@ -867,9 +880,15 @@ static int run(cli *c, const demo *d)
     plan.extra = c->extra;
     plan.progress = isatty(STDERR_FILENO);
     plan.stop = &cli_stop_signal;
+    plan.accept_unhealthy = c->accept_unhealthy;
     rc = eom_run(s, x0, &plan, w);
-    status = rc == 0 ? EXIT_SUCCESS : rc == 2 ? 128 + cli_stop_signal
-                                              : EXIT_RUN;
+    status = rc == 0   ? EXIT_SUCCESS
+             : rc == 2 ? 128 + cli_stop_signal
+             : rc == 3 ? EXIT_UNHEALTHY
+                       : EXIT_RUN;
+    if (status == EXIT_UNHEALTHY)
+        fprintf(stderr, "eom-run: exit status 3 (an unhealthy run); "
+                "--accept-unhealthy accepts it\n");
     /* after a failure or a stop eom_run has said why; the writer says
      * where the rows are (FILE.partial, FILE unchanged) */
     if (eom_csv_writer_close(&w, err, sizeof err) != 0) {
@@ -877,7 +896,8 @@ static int run(cli *c, const demo *d)
         if (rc != 2)
             status = EXIT_RUN;
     }
-    if (status == EXIT_SUCCESS && c->plots) {
+    /* an unhealthy run's rows are whole: its plots show what went wrong */
+    if ((status == EXIT_SUCCESS || status == EXIT_UNHEALTHY) && c->plots) {
         /* gnuplot takes a while on long runs: say what is going on, on a
          * terminal, and erase it after (like the progress line) */
         const int tty = plan.progress && !c->quiet;

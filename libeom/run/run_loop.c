@@ -138,6 +138,7 @@ int eom_run(eom_system *s, const double *x0, const eom_run_opts *p,
     double *x = NULL, W = 0.0, tprev = 0.0;
     long long K, k;
     int exact, status = 1, have_stats = 0;
+    eom_run_verdict verdict;
 
     memset(&r, 0, sizeof r);
     r.p = p;
@@ -219,8 +220,15 @@ done:
     if (status != 0)
         csv_writer_mark_failed(w);
     progress_clear(&r.prog);
+    memset(&verdict, 0, sizeof verdict);
     if (it)
         have_stats = eom_integ_stats(it, &st) == EOM_OK;
+    /* the verdict belongs to a run that reached t_end */
+    if (status == 0) {
+        eom_run_measures ms;
+        run_summary_measures(&r.sum, have_stats ? &st : NULL, &ms);
+        eom_run_judge(&p->opts, have_stats ? &st : NULL, &ms, &verdict);
+    }
     if (!p->quiet)
         run_summary_print(&r.sum, stderr, PROG(p), LABEL(p),
                           eom_method_name(p->opts.method),
@@ -228,7 +236,16 @@ done:
                           eom_system_reads_time(s) ? "C qd + dphi/dt"
                                                    : "C qd",
                           eom_system_nconstraints(s),
-                          progress_clock() - wall0);
+                          progress_clock() - wall0,
+                          status == 0 ? &verdict : NULL);
+    if (status == 0 && !verdict.healthy) {
+        /* said even with quiet: it changes what the run returns */
+        fprintf(stderr, "%s: %s: the run is unhealthy: %s%s\n", PROG(p),
+                LABEL(p), verdict.text,
+                p->accept_unhealthy ? "; accepted as asked" : "");
+        if (!p->accept_unhealthy)
+            status = 3;
+    }
     eom_integ_free(&it);
     sens_columns_free(r.sens_names, r.n_sens_names);
     eom_run_columns_free(&r.cols);

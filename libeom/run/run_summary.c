@@ -30,11 +30,20 @@ void run_summary_add(run_summary *r, double t, double W,
     r->phidot_max = fmax(r->phidot_max, info->phidot_max);
 }
 
+void run_summary_measures(const run_summary *r, const eom_stats *st,
+                          eom_run_measures *m)
+{
+    m->drift_rel = r->scale > 0.0 ? r->drift / r->scale : NAN;
+    m->phi_max = st ? fmax(r->phi_max, st->max_residual) : r->phi_max;
+    m->phidot_max = r->phidot_max;
+}
+
 void run_summary_print(const run_summary *r, FILE *f, const char *prog,
                        const char *label,
                        const char *method, const eom_stats *st,
                        const char *vel,
-                       int nconstraints, double wall)
+                       int nconstraints, double wall,
+                       const eom_run_verdict *v)
 {
     eom_stats zero;
     memset(&zero, 0, sizeof zero);
@@ -90,4 +99,13 @@ void run_summary_print(const run_summary *r, FILE *f, const char *prog,
     } else {
         fprintf(f, "  constraint residual: none (no constraints)\n");
     }
+    if (v && v->healthy && nconstraints > 0)
+        fprintf(f, "  verdict: healthy (relative energy drift within "
+                "%.3g, constraint residuals within %.3g, no branch "
+                "switch)\n", v->energy_threshold, v->residual_threshold);
+    else if (v && v->healthy)
+        fprintf(f, "  verdict: healthy (relative energy drift within "
+                "%.3g)\n", v->energy_threshold);
+    else if (v)
+        fprintf(f, "  verdict: unhealthy: %s\n", v->text);
 }

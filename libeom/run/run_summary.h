@@ -32,14 +32,22 @@ void run_summary_init(run_summary *r);
 void run_summary_add(run_summary *r, double t, double W,
                      const eom_run_row_info *info);
 
+/* The measures the verdict judges (eom_run_judge): the relative drift
+ * (NaN when the energy scale is 0), max |phi| over the rows and st's
+ * steps (st may be NULL), max |C qd| over the rows. */
+void run_summary_measures(const run_summary *r, const eom_stats *st,
+                          eom_run_measures *m);
+
 /* The report on f: label (the demo) and method name, st (NULL when no
  * integrator was created), nconstraints of the system, vel the name of
  * its velocity residual ("C qd", or "C qd + dphi/dt" for a model that
- * reads the time), wall the total wall time in seconds. */
+ * reads the time), wall the total wall time in seconds, v the verdict
+ * (NULL for a run that failed before t_end: no verdict line). */
 void run_summary_print(const run_summary *r, FILE *f, const char *prog,
                        const char *label,
                        const char *method, const eom_stats *st,
                        const char *vel,
-                       int nconstraints, double wall);
+                       int nconstraints, double wall,
+                       const eom_run_verdict *v);
 
 #endif /* APPS_RUN_SUMMARY_H */

@@ -871,10 +871,13 @@ static void case_project(void)
     free(c.v);
     result_free(&r);
 
-    /* --no-project: a warning, and the run starts where it was told */
-    CHECK_INT(run_csv(&c, far_np, &r), 0);
+    /* --no-project: a warning, and the run starts where it was told;
+     * its verdict fails on the residual (2 m), exit status 3, and the
+     * rows are written whole */
+    CHECK_INT(run_csv(&c, far_np, &r), 3);
     CHECK_HAS(r.err, "warning");
     CHECK_HAS(r.err, "--no-project");
+    CHECK_HAS(r.err, "unhealthy: constraint residual max |phi| 2 exceeds");
     if (c.nrows > 0 && csv_col(&c, "phi1") > 0)
         CHECK_NEAR(at(&c, 0, csv_col(&c, "phi1")), -2.0, 1e-12);
     free(c.v);

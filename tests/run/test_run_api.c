@@ -198,6 +198,73 @@ static void timed_rows(void)
     eom_system_free(&s);
 }
 
+/* eom_run_judge: each measure against its threshold (docs/run.md, "The
+ * verdict"): 1000 x max(rtol, tol_reachable) within [1e-8, 1e-2], the
+ * residuals also against atol, any branch switch. */
+static void verdict(void)
+{
+    eom_opts o;
+    eom_stats st;
+    eom_run_measures m = {1e-9, 1e-13, 1e-13};
+    eom_run_verdict v;
+    eom_opts_default(&o);
+    o.rtol = 1e-8;
+    o.atol = 1e-10;
+    memset(&st, 0, sizeof st);
+    eom_run_judge(&o, &st, &m, &v);
+    CHECK_INT(v.healthy, 1);
+    CHECK(v.measure == NULL);
+    CHECK_NEAR(v.energy_threshold, 1e-5, 1e-20);
+    CHECK_NEAR(v.residual_threshold, 1e-5, 1e-20);
+    m.drift_rel = 2e-5;
+    eom_run_judge(&o, &st, &m, &v);
+    CHECK_INT(v.healthy, 0);
+    CHECK(v.measure && strcmp(v.measure, "relative energy drift") == 0);
+    CHECK(strstr(v.text, "relative energy drift 2e-05 exceeds 1e-05") != NULL);
+    /* a method held to a looser tolerance is judged against it */
+    st.tol_reachable = 1e-7;
+    eom_run_judge(&o, &st, &m, &v);
+    CHECK_INT(v.healthy, 1);
+    CHECK_NEAR(v.tol, 1e-7, 1e-22);
+    /* the floor and the cap */
+    st.tol_reachable = 0.0;
+    o.rtol = 1e-15;
+    m.drift_rel = 5e-9;
+    eom_run_judge(&o, &st, &m, &v);
+    CHECK_INT(v.healthy, 1);
+    o.rtol = 1e-3;
+    m.drift_rel = 0.02;
+    eom_run_judge(&o, &st, &m, &v);
+    CHECK_INT(v.healthy, 0);
+    CHECK_NEAR(v.threshold, 1e-2, 1e-17);
+    /* residuals: atol counts for them, not for the energy */
+    o.rtol = 1e-8;
+    o.atol = 1e-6;
+    m.drift_rel = NAN; /* not measured: not judged */
+    m.phi_max = 5e-4;
+    eom_run_judge(&o, &st, &m, &v);
+    CHECK_INT(v.healthy, 1);
+    m.phi_max = 2e-3;
+    eom_run_judge(&o, &st, &m, &v);
+    CHECK(v.measure && strcmp(v.measure,
+                              "constraint residual max |phi|") == 0);
+    m.phi_max = 0.0;
+    m.phidot_max = 2e-3;
+    eom_run_judge(&o, &st, &m, &v);
+    CHECK(v.measure && strncmp(v.measure, "velocity", 8) == 0);
+    /* a branch switch fails whatever else holds */
+    m.phidot_max = 0.0;
+    st.branch_switches = 1;
+    st.first_branch_switch = 0.5;
+    eom_run_judge(&o, &st, &m, &v);
+    CHECK_INT(v.healthy, 0);
+    CHECK(strstr(v.text, "branch switches 1 exceeds 0 (the first at t = "
+                         "0.5") != NULL);
+    /* no integrator: nothing counted */
+    eom_run_judge(&o, NULL, &m, &v);
+    CHECK_INT(v.healthy, 1);
+}
+
 int main(void)
 {
     char dir[] = "/tmp/test_run_api.XXXXXX";
@@ -209,6 +276,7 @@ int main(void)
     grid();
     run_spring(dir);
     timed_rows();
+    verdict();
     rmdir(dir);
     CHECK_DONE();
 }

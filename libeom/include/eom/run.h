@@ -182,10 +182,13 @@ typedef struct eom_run_opts {
                           handler's) read before each sample: when it is
                           non-zero the run stops after its last whole row
                           (eom_run returns 2) */
+    int accept_unhealthy; /* 1: a run whose verdict fails (eom_run_judge)
+                          still returns 0; the summary and a note on
+                          standard error say so (default 0) */
 } eom_run_opts;
 
 /* Defaults: t_end 10, sample 0.01, eom_opts_default, not quiet, no
- * progress line. */
+ * progress line, an unhealthy run not accepted. */
 EOM_API void eom_run_opts_default(eom_run_opts *o);
 
 /* The sample grid: t_k = k * sample for k = 0 .. *K, each computed as
@@ -207,7 +210,11 @@ EOM_API void eom_run_grid(double t_end, double sample, long long *K,
  * so that eom_csv_writer_close keeps them as PATH.partial and leaves PATH
  * as it was. Returns 2 when *o->stop was found non-zero before a sample:
  * a message says at which time, and w holds the whole rows up to it,
- * marked failed as after a failure. */
+ * marked failed as after a failure. A run that reaches t_end ends with
+ * its verdict (eom_run_judge) in the summary; when the verdict fails, a
+ * message on standard error names the measure, its value and its
+ * threshold, and 3 is returned (0 with o->accept_unhealthy); every row is
+ * in w, which is not marked failed. */
 EOM_API int eom_run(eom_system *s, const double *x0, const eom_run_opts *o,
                     eom_csv_writer *w);
 
@@ -224,6 +231,46 @@ EOM_API int eom_run(eom_system *s, const double *x0, const eom_run_opts *o,
 EOM_API int eom_run_prepare_start(eom_system *s, double *x,
                                   const eom_opts *o, const char *prog,
                                   const char *label);
+
+/* ---- the health verdict (docs/run.md, "The verdict") ------------------ */
+
+/* What a run measured of itself. NaN: not measured (not judged). */
+typedef struct eom_run_measures {
+    double drift_rel;  /* max |E + W - E0| over the rows divided by the
+                          energy scale max(|E|, |L|) over the rows */
+    double phi_max;    /* max |phi| over the rows and after every step
+                          (eom_stats.max_residual: the projection's
+                          residual), 0 without constraints */
+    double phidot_max; /* max |C qd + dphi/dt| over the rows */
+} eom_run_measures;
+
+typedef struct eom_run_verdict {
+    int healthy;               /* 1: every measure within its threshold */
+    const char *measure;       /* the first one out of it (static text), or
+                                  NULL */
+    double value, threshold;   /* its value and threshold */
+    double tol;                /* the run's tolerance: max(rtol,
+                                  eom_stats.tol_reachable) */
+    double energy_threshold;   /* for drift_rel */
+    double residual_threshold; /* for phi_max and phidot_max */
+    char text[256];            /* "relative energy drift 0.0222 exceeds
+                                  1e-05 (1000 x the run's tolerance
+                                  1e-08)" when not healthy, else "" */
+} eom_run_verdict;
+
+/* The verdict on a run made with options o (its rtol, atol, proj_tol)
+ * whose integrator counted st (NULL: no integrator ran; its branch
+ * switches and reachable tolerance count as 0) and that measured m (all
+ * borrowed), into *v. Healthy when
+ *   drift_rel <= clamp(1000 tau, 1e-8, 1e-2),
+ *   phi_max and phidot_max <= max(clamp(1000 max(tau, atol), 1e-8,
+ *   1e-2), 10 proj_tol),
+ *   st->branch_switches == 0,
+ * with tau = max(o->rtol, st->tol_reachable); rk4 is judged against the
+ * rtol it was given. The measures are judged in that order, and the
+ * first out of its threshold is named. */
+EOM_API void eom_run_judge(const eom_opts *o, const eom_stats *st,
+                           const eom_run_measures *m, eom_run_verdict *v);
 
 /* ---- plots ------------------------------------------------------------- */
 
