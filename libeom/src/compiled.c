@@ -138,8 +138,9 @@ int eom_system_set_compiled(eom_system *s, int on,
          * (seeded directions over every op, a few calls per step): it
          * stays on the interpreter; so does the velocity constraints'
          * tape (two sweeps per evaluation, docs/libeom.md), and the
-         * initial state's (evaluated once a run) */
-        if (!t[k]->tape || k == 5 || k == 6 || k == 7)
+         * initial state's (evaluated once a run) and the drawings'
+         * (the frames of an animation only) */
+        if (!t[k]->tape || k == 5 || k == 6 || k == 7 || k == 8)
             continue;
         info->tapes++;
         if (s->shared->cc[k]) {

@@ -94,6 +94,16 @@ typedef struct eom_name_slot {
     int index;
 } eom_name_slot;
 
+/* A drawing (drawing.c, eom/drawing.h): in a model with its callback,
+ * in a system a copy without it. */
+typedef struct eom_drawing_def {
+    char *name;
+    int kind, count, offset, flags;
+    unsigned rgb;
+    eom_vector_fn fn;
+    void *user;
+} eom_drawing_def;
+
 struct eom_model {
     eom_named *coords, *params, *probes;
     eom_name_slot *names; /* every name above, hashed: a model with tens
@@ -110,6 +120,8 @@ struct eom_model {
     int n_vcon;     /* total over the velocity constraint blocks */
     eom_attached *att;
     int n_att, cap_att;
+    eom_drawing_def *draws; /* drawings (drawing.c) */
+    int n_draws, cap_draws, n_draw_values;
     int status;
     char msg[EOM_MSG_LEN];
 };
@@ -172,8 +184,8 @@ typedef struct eom_tape {
 
 /* How many systems share one set of tapes: the last one frees them.
  * Clones may be freed by different threads, hence atomic. */
-#define EOM_N_TAPES 8 /* L, E, R, Q, phi, residual, psi, initial state:
-                         eom__tapes */
+#define EOM_N_TAPES 9 /* L, E, R, Q, phi, residual, psi, initial state,
+                         drawings: eom__tapes */
 typedef struct eom_shared {
     atomic_int refs;
     tp_compiled *cc[EOM_N_TAPES]; /* compiled tapes, or NULL */
@@ -194,6 +206,10 @@ struct eom_system {
     eom_tape tpsi;    /* velocity constraints (mv > 0), interpreted */
     eom_tape tx0;     /* the initial state from the parameters, or none
                          (initial.c), interpreted */
+    eom_tape tD;      /* the drawings (drawing.c), or none; replayed only
+                         by eom_drawings_at */
+    eom_drawing_def *draws; /* copies of the model's drawings (fn unused) */
+    int ndraw, ndraw_values;
     double *vx;       /* 2n + 1: a sweep's input (q, qd) of the psi tape */
     double *vdir;     /* 2n + 1: its direction (qd, 0, 1) */
     int *ipiv;        /* mh: pivots of the holonomic block's solve */
@@ -487,6 +503,12 @@ int eom__svd(eom_system *s, int rows, int cols, double *A, double *sv,
 /* The system's tapes in a fixed order: L, E, R, Q, phi, residual, psi
  * (the order of eom_shared.cc). */
 void eom__tapes(eom_system *s, eom_tape *t[EOM_N_TAPES]);
+/* drawing.c: record every drawing of c->m as outputs D1, D2, ... (the
+ * body of the drawings' tape); copy n drawings into s (names copied, no
+ * callbacks); free s's copies. */
+int eom__body_drawings(eom_ctx *c);
+int eom__drawings_copy(eom_system *s, const eom_drawing_def *d, int n);
+void eom__drawings_free(eom_system *s);
 
 /* Status with a message in s (first argument printf-style). */
 int eom__fail(eom_system *s, int status, const char *fmt, ...)

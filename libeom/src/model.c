@@ -86,6 +86,9 @@ void eom_model_free(eom_model **m)
     for (i = 0; i < (*m)->n_att; i++)
         (*m)->att[i].free_fn((*m)->att[i].data);
     free((*m)->att);
+    for (i = 0; i < (*m)->n_draws; i++)
+        free((*m)->draws[i].name);
+    free((*m)->draws);
     free(*m);
     *m = NULL;
 }

@@ -418,6 +418,8 @@ void eom_system_free(eom_system **sp)
     tape_free(&s->tphi, last);
     tape_free(&s->tpsi, last);
     tape_free(&s->tx0, last);
+    tape_free(&s->tD, last);
+    eom__drawings_free(s);
     /* the sparse Jacobian's workspace replays the residual tape: first */
     eom__jsparse_free(&s->jsp);
     eom__ssparse_free(&s->ssp);
@@ -672,6 +674,11 @@ int eom_system_new(eom_system **out, const eom_model *m, char *errmsg,
     if (m->x0.set && (rc = record(s, m, &s->tx0, EOM_ROLE_INITIAL, body_x0,
                                   "initial state", 1, false)) != EOM_OK)
         goto fail;
+    if (m->n_draws > 0 &&
+        ((rc = eom__drawings_copy(s, m->draws, m->n_draws)) != EOM_OK ||
+         (rc = record(s, m, &s->tD, EOM_ROLE_STATE, eom__body_drawings,
+                      "drawings", 1, false)) != EOM_OK))
+        goto fail;
     if (s->m > 0 && (rc = setup_klu(s)) != EOM_OK)
         goto fail;
     s->reads_time = s->tL.tindex >= 0 || s->tE.tparam >= 0 ||
@@ -765,7 +772,9 @@ int eom_system_clone(eom_system **out, const eom_system *s, char *errmsg,
         (rc = clone_tape(c, &c->tQ, &s->tQ)) != EOM_OK ||
         (rc = clone_tape(c, &c->tphi, &s->tphi)) != EOM_OK ||
         (rc = clone_tape(c, &c->tpsi, &s->tpsi)) != EOM_OK ||
-        (rc = clone_tape(c, &c->tx0, &s->tx0)) != EOM_OK)
+        (rc = clone_tape(c, &c->tx0, &s->tx0)) != EOM_OK ||
+        (rc = clone_tape(c, &c->tD, &s->tD)) != EOM_OK ||
+        (rc = eom__drawings_copy(c, s->draws, s->ndraw)) != EOM_OK)
         goto fail;
     /* the residual tape's workspace is made on first use */
     c->tRes.tape = s->tRes.tape;
@@ -885,6 +894,7 @@ void eom__tapes(eom_system *s, eom_tape *t[EOM_N_TAPES])
     t[5] = &s->tRes;
     t[6] = &s->tpsi;
     t[7] = &s->tx0;
+    t[8] = &s->tD;
 }
 
 int eom_set_param(eom_system *s, int k, double value)

@@ -467,7 +467,9 @@ static int add_callbacks(lang_inst *in, eom_model *m)
         ncb++;
     ncb++; /* the initial state */
     for (k = 0; k < p->nsyms; k++)
-        if (p->syms[k].kind == S_PROBE)
+        if (p->syms[k].kind == S_PROBE && p->syms[k].draw)
+            continue; /* a drawing's: lang_draw_callbacks */
+        else if (p->syms[k].kind == S_PROBE)
             ncb += in->fam[k].size * (p->syms[k].shape > SH_SCALAR
                                           ? p->syms[k].shape
                                           : 1);
@@ -516,7 +518,7 @@ static int add_callbacks(lang_inst *in, eom_model *m)
                      : eom_model_add_constraints(m, rows, cb_constraint,
                                                  new_cb(in, k, -1, 0));
         }
-        if (y->kind != S_PROBE)
+        if (y->kind != S_PROBE || y->draw)
             continue;
         for (j = 0; j < in->fam[k].size && rc >= 0; j++) {
             long idx[LANG_MAX_IDX];
@@ -541,6 +543,8 @@ static int add_callbacks(lang_inst *in, eom_model *m)
         }
         unbind(in, k);
     }
+    if (rc >= 0 && p->ndraws > 0 && lang_draw_callbacks(in, m) < 0)
+        return -1;
     if (rc < 0) {
         lang_fail(in, 0, NULL, "%s", eom_model_errmsg(m)[0]
                                          ? eom_model_errmsg(m)
@@ -818,4 +822,16 @@ int lang_build(lang_prog *p, const double *setting, eom_model **out,
     }
     *out = m;
     return EOM_OK;
+}
+
+void lang_bind_member(lang_inst *in, int s, int flat, long *idx)
+{
+    bind_member(in, s, flat, idx);
+}
+
+void lang_unbind(lang_inst *in, int s) { unbind(in, s); }
+
+void lang_member_name(const sym *y, const long *idx, char *buf, size_t len)
+{
+    member_name(y, idx, buf, len);
 }

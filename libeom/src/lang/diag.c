@@ -184,6 +184,7 @@ void lang_prog_release(lang_prog *p)
     free(p->syms);
     free(p->clauses);
     free(p->stmts);
+    free(p->draws);
     free(p->var_tok);
     free(p);
 }

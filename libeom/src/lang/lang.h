@@ -190,7 +190,25 @@ typedef struct sym {
                               constraint NAME = ...) */
     uint8_t shape;         /* definitions, probes, constraints: SH_* */
     uint8_t shape_state;   /* 0 not computed, 1 in progress, 2 done */
+    int32_t draw;          /* probes: 0, or 1 + the drawing (lang_draw)
+                              this is an argument of: a value of the
+                              drawing's tape, in no CSV */
+    int32_t draw_tok;      /* a drawing's argument: its first token */
 } sym;
+
+/* A draw statement (draw.c): draw KIND NAME[binders] = ARG, ARG, ...
+ * [color "C"] [trail]. Its arguments are the probes first_sym ..
+ * first_sym + nargs - 1, with the statement's binders each; the first is
+ * named NAME, the others '#' and numbers (no name a file can write). */
+typedef struct lang_draw {
+    int32_t tok;        /* 'draw' */
+    int32_t kind_tok;   /* the kind's word */
+    int32_t first_sym, nargs;
+    int32_t color_tok;  /* TK_STR after 'color', or -1 */
+    int32_t trail_tok;  /* 'trail', or -1 */
+    int kind;           /* eom_draw_kind, set by lang_draws */
+    unsigned rgb;       /* set by lang_draws */
+} lang_draw;
 
 /* One defining equation of a definition: NAME[binders] = body. */
 typedef struct clause {
@@ -240,6 +258,8 @@ typedef struct lang_prog {
     int32_t *var_tok;     /* [nvars] where each is bound */
     long budget;          /* LANG_BUDGET, or lower (lang_file_limits) */
     int max_count;        /* LANG_MAX_COUNT, or lower */
+    lang_draw *draws;     /* draw statements (draw.c) */
+    int ndraws, cap_draws;
     int units_off;        /* "units off" */
     int32_t units_off_tok;
 } lang_prog;
@@ -274,6 +294,11 @@ int lang_resolve(lang_prog *p, char *err, size_t len);
 int lang_units(lang_prog *p, char *err, size_t len);
 int lang_shapes(lang_prog *p, char *err, size_t len);
 int lang_rates(lang_prog *p, char *err, size_t len);
+/* draw.c: the kinds, arguments, shapes, units and colours of the draw
+ * statements (after lang_units). */
+int lang_draws(lang_prog *p, char *err, size_t len);
+/* units.c: the dimension of node n (0, or -1 with a message in err). */
+int lang_dim_of(lang_prog *p, int n, dim *out, char *err, size_t len);
 /* "a scalar", "a vector", "a matrix" */
 const char *lang_shape_name(int shape);
 
@@ -427,6 +452,13 @@ void lang_begin(lang_inst *in, eom_ctx *ctx, int role, const char *what);
 /* The flat index of a family member from its index values, or -1 with a
  * message at tok. */
 int lang_family_index(lang_inst *in, int sym, const long *idx, int tok);
+/* build.c: bind the index variables of family s to its member flat (the
+ * index values into idx), unbind them, and a member's name (theta3). */
+void lang_bind_member(lang_inst *in, int s, int flat, long *idx);
+void lang_unbind(lang_inst *in, int s);
+void lang_member_name(const sym *y, const long *idx, char *buf, size_t len);
+/* draw.c: a drawing per member of each draw statement, added to m. */
+int lang_draw_callbacks(lang_inst *in, eom_model *m);
 void lang_fail(lang_inst *in, int tok, const char *hint, const char *fmt,
                ...)
 #if defined(__GNUC__)

@@ -179,7 +179,7 @@ static int from_text(eom_file **out, char *text, long len, const char *name,
     if (lang_lex(p, err, errlen) != 0 || lang_parse(p, err, errlen) != 0 ||
         lang_resolve(p, err, errlen) != 0 || lang_shapes(p, err, errlen) != 0 ||
         lang_rates(p, err, errlen) != 0 ||
-        lang_units(p, err, errlen) != 0 ||
+        lang_units(p, err, errlen) != 0 || lang_draws(p, err, errlen) != 0 ||
         settings(f, err, errlen) != 0) {
         eom_file_free(&f);
         return EOM_ERR_FILE;

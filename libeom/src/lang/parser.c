@@ -689,6 +689,75 @@ static int def_stmt(parser *ps)
     return end_of_stmt(ps);
 }
 
+/* draw KIND NAME[binders] = ARG {, ARG} {color "C" | trail}: the syntax
+ * only; draw.c checks the kind, the arguments and the colour. */
+static int draw_stmt(parser *ps, int tok)
+{
+    lang_prog *p = ps->p;
+    lang_draw *d;
+    int name, first, k, v;
+    if (kind(ps) != TK_ID)
+        return fail(ps, ps->pos, "write draw point NAME = vec(x, y, 0)",
+                    "expected the kind of drawing after 'draw'");
+    ps->pos++;
+    if ((name = expect_name(ps, "expected the drawing's name")) < 0 ||
+        (first = new_sym(ps, S_PROBE, name)) < 0)
+        return -1;
+    if (lang_grow((void **)&p->draws, &p->cap_draws, p->ndraws + 1,
+                  sizeof *p->draws, LANG_MAX_COUNT) != 0)
+        return nomem(ps);
+    d = &p->draws[p->ndraws++];
+    memset(d, 0, sizeof *d);
+    d->tok = tok;
+    d->kind_tok = tok + 1;
+    d->first_sym = first;
+    d->color_tok = d->trail_tok = -1;
+    if (kind(ps) == TK_LBRK) {
+        if (cur(ps)->space_before)
+            return fail(ps, ps->pos, "write NAME[i in 1..n] with no space",
+                        "a space between a name and its indices");
+        if (binders(ps, p->syms[first].idx, &p->syms[first].nidx, 0) < 0)
+            return -1;
+    }
+    if (expect(ps, TK_ASSIGN, "expected '='") < 0)
+        return -1;
+    for (k = first;; ) {
+        const int at = ps->pos;
+        if ((v = expr(ps)) < 0)
+            return -1;
+        p->syms[k].value = v;
+        p->syms[k].draw = p->ndraws;
+        p->syms[k].draw_tok = at;
+        p->draws[p->ndraws - 1].nargs++;
+        if (kind(ps) != TK_COMMA)
+            break;
+        ps->pos++;
+        skip_nl(ps); /* a line that ends with a comma goes on */
+        if ((k = new_sym(ps, S_PROBE, name)) < 0)
+            return -1;
+        snprintf(p->syms[k].name, sizeof p->syms[k].name, "#%d.%d",
+                 p->ndraws, p->draws[p->ndraws - 1].nargs + 1);
+        memcpy(p->syms[k].idx, p->syms[first].idx, sizeof p->syms[k].idx);
+        p->syms[k].nidx = p->syms[first].nidx;
+    }
+    d = &p->draws[p->ndraws - 1];
+    while (kind(ps) == TK_ID) {
+        if (is_word(ps, ps->pos, "color") && ps->p->toks[ps->pos + 1].kind ==
+                                                 TK_STR) {
+            d->color_tok = ps->pos + 1;
+            ps->pos += 2;
+        } else if (is_word(ps, ps->pos, "trail")) {
+            d->trail_tok = ps->pos++;
+        } else {
+            return fail(ps, ps->pos,
+                        "a drawing ends with color \"NAME\" or "
+                        "color \"#rrggbb\", and trail for a point",
+                        "expected color \"...\" or trail");
+        }
+    }
+    return end_of_stmt(ps);
+}
+
 static int statement(parser *ps)
 {
     const int tok = ps->pos;
@@ -726,6 +795,11 @@ static int statement(parser *ps)
                                             : S_CONSTRAINT;
         ps->pos++;
         return decl_stmt(ps, k);
+    }
+    /* not a reserved word: a value named draw keeps working */
+    if (is_word(ps, tok, "draw") && ps->p->toks[tok + 1].kind == TK_ID) {
+        ps->pos++;
+        return draw_stmt(ps, tok);
     }
     if (is_word(ps, tok, "force")) {
         ps->pos++;

@@ -687,3 +687,13 @@ int lang_units(lang_prog *p, char *err, size_t len)
     }
     return 0;
 }
+
+int lang_dim_of(lang_prog *p, int n, dim *out, char *err, size_t len)
+{
+    checker ck;
+    memset(&ck, 0, sizeof ck);
+    ck.p = p;
+    ck.err = err;
+    ck.len = len;
+    return dim_of(&ck, n, out);
+}
