@@ -12,6 +12,34 @@
 
 enum { TAG_REQ = 1, TAG_RUN = 2, TAG_RES = 3 };
 
+/* Rank 0's view of every other rank, for ensemble_mpi_stalled: when it
+ * was last heard from, the runs handed to it whose results have not come
+ * back (at most two: a worker asks one run ahead), and whether it was
+ * told to stop. Allocated at the first ensemble_mpi_serve. */
+typedef struct rank_view {
+    double heard;
+    long held[2];
+    int nheld, done;
+} rank_view;
+static rank_view *g_view;
+static int g_nview;
+
+static rank_view *view_of(int rank)
+{
+    if (!g_view) {
+        int size = 1, r;
+        MPI_Comm_size(MPI_COMM_WORLD, &size);
+        g_view = calloc((size_t)size, sizeof *g_view);
+        if (!g_view)
+            return NULL;
+        g_nview = size;
+        for (r = 0; r < size; r++)
+            g_view[r].heard = MPI_Wtime();
+        g_view[0].done = 1; /* rank 0 is this one */
+    }
+    return rank >= 0 && rank < g_nview ? &g_view[rank] : NULL;
+}
+
 typedef struct wire {
     long i;
     int ok, has_final;
@@ -33,6 +61,8 @@ int ensemble_mpi_init(int *argc, char ***argv, int *rank, int *size)
 
 void ensemble_mpi_finalize(void)
 {
+    free(g_view);
+    g_view = NULL;
     MPI_Finalize();
 }
 
@@ -120,9 +150,14 @@ int ensemble_mpi_serve(ensemble_job *job, int *active)
     const int n = eom_system_ncoords(job->base);
     MPI_Status st;
     int flag = 0;
+    rank_view *v;
+    (void)view_of(0); /* every rank's clock starts at the first call */
     MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &st);
     if (!flag)
         return 0;
+    v = view_of(st.MPI_SOURCE);
+    if (v)
+        v->heard = MPI_Wtime();
     if (st.MPI_TAG == TAG_REQ) {
         int dummy;
         long i;
@@ -131,6 +166,10 @@ int ensemble_mpi_serve(ensemble_job *job, int *active)
         i = ensemble_job_next(job);
         if (i < 0)
             (*active)--;
+        if (v && i < 0)
+            v->done = 1;
+        else if (v && v->nheld < 2)
+            v->held[v->nheld++] = i;
         MPI_Send(&i, 1, MPI_LONG, st.MPI_SOURCE, TAG_RUN, MPI_COMM_WORLD);
         return 1;
     }
@@ -147,6 +186,8 @@ int ensemble_mpi_serve(ensemble_job *job, int *active)
         memcpy(&h, buf, sizeof h);
         if (h.i < 0 || h.i >= job->runs->nruns)
             return malformed(st.MPI_SOURCE, buf);
+        if (v && v->nheld > 0 && v->held[0] == h.i) /* results in order */
+            v->held[0] = v->held[--v->nheld];
         {
             run_result *r = &job->res[h.i];
             r->ok = h.ok;
@@ -175,4 +216,28 @@ int ensemble_mpi_serve(ensemble_job *job, int *active)
         return 1;
     }
     return 0;
+}
+
+int ensemble_mpi_stalled(double timeout, long *run, double *silent)
+{
+    const double now = MPI_Wtime();
+    int r;
+    *run = -1;
+    *silent = 0.0;
+    if (!view_of(0))
+        return -1;
+    for (r = 1; r < g_nview; r++) {
+        const rank_view *v = &g_view[r];
+        if (!v->done && now - v->heard > timeout) {
+            *run = v->nheld > 0 ? v->held[0] : -1;
+            *silent = now - v->heard;
+            return r;
+        }
+    }
+    return -1;
+}
+
+void ensemble_mpi_abort(int status)
+{
+    MPI_Abort(MPI_COMM_WORLD, status);
 }

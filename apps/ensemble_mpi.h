@@ -25,4 +25,15 @@ int ensemble_mpi_work(ensemble_job *job);
  * waiting. */
 int ensemble_mpi_serve(ensemble_job *job, int *active);
 
+/* Rank 0: a rank not yet told to stop that has sent nothing for more
+ * than timeout seconds (stopped, SIGSTOP, or lost): its number, with the
+ * run it holds in *run (-1: none) and the seconds since it was last
+ * heard from in *silent; or -1 when every rank has answered in time.
+ * A rank working on a run is silent for the whole run: timeout must be
+ * longer than the longest run (docs/ensembles.md). */
+int ensemble_mpi_stalled(double timeout, long *run, double *silent);
+
+/* End every rank at once (MPI_Abort) with status. */
+void ensemble_mpi_abort(int status);
+
 #endif /* APPS_ENSEMBLE_MPI_H */

@@ -46,6 +46,31 @@ enum { EXIT_RUN = 1, EXIT_USAGE = CLI_EXIT_USAGE };
  * summary. */
 static int g_rank, g_size = 1;
 
+/* Rank 0: the ensemble stops when a rank has not answered for this many
+ * seconds (--rank-timeout; read only in an MPI build) */
+static double g_rank_timeout = 600.0;
+
+#ifdef EOM_ENSEMBLE_MPI
+
+/* A rank silent for longer than --rank-timeout: say which, and which
+ * run it holds. 1 when one is, 0 when none. */
+static int rank_stalled(void)
+{
+    long i;
+    double silent;
+    const int r = ensemble_mpi_stalled(g_rank_timeout, &i, &silent);
+    char held[64] = "no run";
+    if (r < 0)
+        return 0;
+    if (i >= 0)
+        snprintf(held, sizeof held, "run %ld", i);
+    fprintf(stderr, "eom-ensemble: rank %d has not answered for %.0f s "
+            "(--rank-timeout %g; it holds %s): stopping every rank\n", r,
+            silent, g_rank_timeout, held);
+    return 1;
+}
+#endif
+
 typedef struct cli {
     const char *model;
     override *sets;
@@ -66,7 +91,7 @@ typedef struct cli {
 enum { OPT_RUNS = 256, OPT_SWEEP, OPT_THREADS, OPT_TRAJ, OPT_RESUME,
        OPT_INTEGRATOR, OPT_DT, OPT_RTOL, OPT_ATOL, OPT_MAX_STEPS,
        OPT_NO_PROJECT, OPT_SAMPLE, OPT_RANDOM, OPT_COUNT, OPT_SEED,
-       OPT_COMPILED };
+       OPT_COMPILED, OPT_RANK_TIMEOUT };
 
 static const struct option long_options[] = {
     {"help", no_argument, NULL, 'h'},
@@ -89,6 +114,7 @@ static const struct option long_options[] = {
     {"max-steps", required_argument, NULL, OPT_MAX_STEPS},
     {"no-project", no_argument, NULL, OPT_NO_PROJECT},
     {"compiled", no_argument, NULL, OPT_COMPILED},
+    {"rank-timeout", required_argument, NULL, OPT_RANK_TIMEOUT},
     {"quiet", no_argument, NULL, 'q'},
     {NULL, 0, NULL, 0},
 };
@@ -136,6 +162,10 @@ static void help(void)
         "                        as for eom-run\n"
         "      --compiled        every run on compiled tapes, compiled once "
         "(as eom-run)\n"
+        "      --rank-timeout S  under MPI: stop every rank when one has "
+        "not answered\n"
+        "                        for S seconds (default 600; longer than "
+        "the longest run)\n"
         "  -q, --quiet           no progress line and no summary line\n"
         "\nExit status: 0 every run succeeded, 1 some run failed (see the "
         "summary's\nstatus and message columns) or the ensemble could not "
@@ -205,6 +235,10 @@ static int parse(int argc, char **argv, cli *c)
             break;
         case OPT_NO_PROJECT: c->opts.project = 0; break;
         case OPT_COMPILED: c->compiled = 1; break;
+        case OPT_RANK_TIMEOUT:
+            rc = cli_number_arg("--rank-timeout", optarg, 1,
+                                &g_rank_timeout);
+            break;
         case 'q': c->quiet = 1; break;
         case ':':
             return cli_usage_error("option '%s' needs an argument",
@@ -327,7 +361,7 @@ static double now(void)
 
 /* Wait until run i is done (with other ranks, serving them meanwhile):
  * 1, or 0 when it never will be (the job stopped before handing it
- * out). */
+ * out), or -1 after a message when a rank stopped answering. */
 static int wait_for(ensemble_job *job, long i, int *active)
 {
 #ifdef EOM_ENSEMBLE_MPI
@@ -341,8 +375,11 @@ static int wait_for(ensemble_job *job, long i, int *active)
             pthread_mutex_unlock(&job->lock);
             if (done || never)
                 return done;
-            if (!ensemble_mpi_serve(job, active))
+            if (!ensemble_mpi_serve(job, active)) {
+                if (rank_stalled())
+                    return -1;
                 nanosleep(&nap, NULL);
+            }
         }
     }
 #else
@@ -351,18 +388,23 @@ static int wait_for(ensemble_job *job, long i, int *active)
     return ensemble_pool_wait(job, i);
 }
 
-/* Tell every other rank that there is nothing left. */
-static void finish_ranks(ensemble_job *job, int *active)
+/* Tell every other rank that there is nothing left: 0, or -1 after a
+ * message when a rank stopped answering. */
+static int finish_ranks(ensemble_job *job, int *active)
 {
 #ifdef EOM_ENSEMBLE_MPI
     const struct timespec nap = {0, 500000};
     while (*active > 0)
-        if (!ensemble_mpi_serve(job, active))
+        if (!ensemble_mpi_serve(job, active)) {
+            if (rank_stalled())
+                return -1;
             nanosleep(&nap, NULL);
+        }
 #else
     (void)job;
     (void)active;
 #endif
+    return 0;
 }
 
 static int run(cli *c, const demo *d)
@@ -378,6 +420,7 @@ static int run(cli *c, const demo *d)
     long i, ndone = 0, failed = 0, written = 0;
     int status = EXIT_RUN, n, k, started = 0, tty, active = g_size - 1;
     int wrote = 0; /* 0, or -1 once a row could not be written */
+    int stalled = 0; /* an MPI rank stopped answering */
 #ifdef EOM_ENSEMBLE_MPI
     int setup_ok = 0;
 #endif
@@ -512,8 +555,10 @@ static int run(cli *c, const demo *d)
     for (i = 0; i < runs.nruns; i++) {
         if (skip[i])
             continue;
-        if (!wait_for(&job, i, &active))
-            break; /* stopped before run i started */
+        if ((k = wait_for(&job, i, &active)) <= 0) {
+            stalled = k < 0;
+            break; /* stopped before run i started, or a rank is lost */
+        }
         wrote = ensemble_summary_put(f, c->out, &runs, i, n, &job.res[i]);
         if (wrote != 0) {
             ensemble_job_halt(&job); /* the runs not started are not run */
@@ -531,9 +576,29 @@ static int run(cli *c, const demo *d)
                     el / (double)written * (double)todo);
         }
     }
+    if (stalled) {
+        /* the runs on this rank's threads and on the lost rank are not
+         * waited for: the summary keeps its whole rows, and MPI_Abort
+         * ends every process, the stopped one too */
+        ensemble_job_halt(&job);
+        ensemble_summary_close(&f, c->out, 1);
+        fprintf(stderr, "eom-ensemble: '%s' keeps %ld runs; the same "
+                "command with --resume does the rest\n", c->out,
+                ndone + written);
+#ifdef EOM_ENSEMBLE_MPI
+        ensemble_mpi_abort(EXIT_RUN);
+#endif
+    }
     for (k = 0; k < started; k++)
         pthread_join(th[k], NULL);
-    finish_ranks(&job, &active);
+    if (finish_ranks(&job, &active) != 0) {
+        ensemble_summary_close(&f, c->out, wrote == 0);
+        fprintf(stderr, "eom-ensemble: '%s' keeps %ld runs\n", c->out,
+                ndone + written);
+#ifdef EOM_ENSEMBLE_MPI
+        ensemble_mpi_abort(EXIT_RUN);
+#endif
+    }
     if (tty)
         fprintf(stderr, "\r%70s\r", "");
     if (ensemble_summary_close(&f, c->out, wrote == 0) != 0 || wrote != 0)

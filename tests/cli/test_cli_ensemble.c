@@ -7,6 +7,7 @@
  *
  * usage: test_cli_ensemble EOM_ENSEMBLE MODELS_DIR CASE */
 #define _XOPEN_SOURCE 700 /* realpath, setenv */
+#include <dirent.h>
 #include <limits.h>
 #include <math.h>
 #include <stdio.h>
@@ -504,6 +505,135 @@ static void case_mpi_setup(void)
     rmdir(b);
 }
 
+/* The pid of the child of parent whose environment says it is MPI rank
+ * rank (Open MPI's OMPI_COMM_WORLD_RANK), or -1. */
+static pid_t rank_pid(pid_t parent, int rank)
+{
+    char path[300], want[64], *env, *stat, *p;
+    size_t len;
+    pid_t pid;
+    DIR *d = opendir("/proc");
+    struct dirent *e;
+    snprintf(want, sizeof want, "OMPI_COMM_WORLD_RANK=%d", rank);
+    while (d && (e = readdir(d)) != NULL) {
+        pid = (pid_t)atoi(e->d_name);
+        if (pid <= 0)
+            continue;
+        snprintf(path, sizeof path, "/proc/%d/stat", (int)pid);
+        stat = read_file(path, NULL);
+        if (!stat)
+            continue;
+        p = strrchr(stat, ')'); /* "pid (comm) state ppid ..." */
+        if (!p || atoi(p + 4) != (int)parent) {
+            free(stat);
+            continue;
+        }
+        free(stat);
+        snprintf(path, sizeof path, "/proc/%d/environ", (int)pid);
+        env = read_file(path, &len);
+        for (p = env; env && p < env + len; p += strlen(p) + 1)
+            if (strcmp(p, want) == 0) {
+                free(env);
+                closedir(d);
+                return pid;
+            }
+        free(env);
+    }
+    if (d)
+        closedir(d);
+    return -1;
+}
+
+/* pid is a live process (not gone, not a zombie waiting to be reaped). */
+static int alive(pid_t pid)
+{
+    char path[64], *stat, *p;
+    int live;
+    snprintf(path, sizeof path, "/proc/%d/stat", (int)pid);
+    stat = read_file(path, NULL);
+    p = stat ? strrchr(stat, ')') : NULL;
+    live = p && p[1] == ' ' && p[2] != 'Z' && p[2] != 'X';
+    free(stat);
+    return live;
+}
+
+/* Three ranks, one of them stopped (SIGSTOP) mid-ensemble: rank 0 names
+ * it and the run it holds after --rank-timeout, keeps the summary whole
+ * and ends every rank (the stopped one too); --resume does the rest. */
+static void case_mpi_stopped(void)
+{
+    char model[PATH_MAX + 32], out[300], errp[300], *msg, *text;
+    const char *args[] = {"mpirun", "-np", "3", "--oversubscribe",
+                          cli_program, model, "--sweep", "th1=0.5:2.5:120",
+                          "--t-end", "60", "--integrator", "erk", "--rtol",
+                          "1e-10", "--threads", "1", "-q", "--rank-timeout",
+                          "2", "--out", out, NULL};
+    pid_t pid, victim = -1;
+    long lines = 0;
+    int k, st = 0;
+    snprintf(model, sizeof model, "%s/double-pendulum.eom", models);
+    scratch(out, sizeof out, "stopped.csv");
+    scratch(errp, sizeof errp, "stopped.txt");
+    fflush(NULL);
+    pid = fork();
+    if (pid == 0) {
+        FILE *e = freopen(errp, "w", stderr);
+        (void)e;
+        execvp(args[0], (char *const *)(void *)args);
+        _exit(127);
+    }
+    CHECK(pid > 0);
+    for (k = 0; k < 3000 && lines < 3; k++) { /* rows from every rank */
+        const struct timespec nap = {0, 10000000};
+        nanosleep(&nap, NULL);
+        text = read_file(out, NULL);
+        lines = 0;
+        for (msg = text; msg && *msg; msg++)
+            lines += *msg == '\n';
+        free(text);
+    }
+    CHECK(lines >= 3);
+    victim = rank_pid(pid, 1);
+    CHECK(victim > 0);
+    if (victim > 0)
+        kill(victim, SIGSTOP);
+    waitpid(pid, &st, 0);
+    for (k = 0; k < 500 && victim > 0 && alive(victim); k++) {
+        const struct timespec nap = {0, 10000000}; /* being killed */
+        nanosleep(&nap, NULL);
+    }
+    if (victim > 0 && alive(victim)) { /* left behind: a failure */
+        CHECK(!"the stopped rank was left running");
+        kill(victim, SIGKILL);
+    }
+    CHECK(WIFEXITED(st) && WEXITSTATUS(st) == 1);
+    msg = read_file(errp, NULL);
+    CHECK_HAS(msg, "eom-ensemble: rank 1 has not answered for");
+    CHECK_HAS(msg, "it holds run ");
+    CHECK_HAS(msg, "--resume does the rest");
+    free(msg);
+    text = read_file(out, NULL);
+    CHECK(text && strlen(text) > 0 && text[strlen(text) - 1] == '\n');
+    free(text);
+    {
+        const char *again[] = {model, "--sweep", "th1=0.5:2.5:120",
+                               "--t-end", "60", "--integrator", "erk",
+                               "--rtol", "1e-10", "-q", "--out", out,
+                               "--resume", NULL};
+        result r;
+        run(&r, again);
+        CHECK_INT(r.status, 0);
+        result_free(&r);
+    }
+    text = read_file(out, NULL);
+    lines = 0;
+    for (msg = text; msg && *msg; msg++)
+        lines += *msg == '\n';
+    free(text);
+    CHECK_INT((int)lines, 121);
+    unlink(errp);
+}
+
 static void case_usage(void)
 {
     const char *no_out[] = {"spring-pendulum", "--sweep", "k=1:2:2", NULL};
@@ -579,7 +709,7 @@ static const struct {
     {"ensemble_trajectories", case_trajectories},
     {"ensemble_usage", case_usage}, {"ensemble_random", case_random},
     {"ensemble_mpi", case_mpi}, {"ensemble_kill", case_kill},
-    {"ensemble_mpi_setup", case_mpi_setup}, {"ensemble_time", case_time},
+    {"ensemble_mpi_setup", case_mpi_setup}, {"ensemble_mpi_stopped", case_mpi_stopped}, {"ensemble_time", case_time},
     {"ensemble_compiled", case_compiled},
 };
 
