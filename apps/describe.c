@@ -177,13 +177,36 @@ static int describe_coords(FILE *f, const eom_system *s, const double *x0)
     return rc;
 }
 
+/* The constraint rows by their CSV names (phi_NAME for a named row,
+ * phiK otherwise), the velocity rows marked. */
+static void describe_constraints(FILE *f, const eom_system *s)
+{
+    const int m = eom_system_nconstraints(s);
+    const int mv = eom_system_nvelocity_constraints(s);
+    int k;
+    fprintf(f, "constraints: %d", m);
+    if (mv > 0)
+        fprintf(f, " (%d of them on the rates)", mv);
+    fprintf(f, "; CSV columns");
+    for (k = 0; k < m; k++) {
+        char *col = eom_run_constraint_column(s, "phi", k);
+        fprintf(f, "%s%s%s", k ? ", " : " ", col ? col : "?",
+                k >= m - mv ? " (rates)" : "");
+        free(col);
+        if (k == 19 && m > 24) {
+            fprintf(f, ", ... (%d more)", m - 20);
+            break;
+        }
+    }
+    fprintf(f, " and their phidot and lambda columns\n");
+}
+
 static void describe_outputs(FILE *f, const eom_system *s)
 {
     const int m = eom_system_nconstraints(s), np = eom_system_nprobes(s);
     int k;
     if (m > 0)
-        fprintf(f, "constraints: %d (CSV columns phi1..phi%d and "
-                "phidot1..phidot%d)\n", m, m, m);
+        describe_constraints(f, s);
     else
         fprintf(f, "constraints: none\n");
     fprintf(f, "energies: %s\n", eom_system_has_tv(s)

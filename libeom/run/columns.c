@@ -27,6 +27,22 @@ static char *numbered(const char *base, int k)
     return join(base, num);
 }
 
+char *eom_run_constraint_column(const eom_system *s, const char *base,
+                                int j)
+{
+    const char *name = eom_constraint_name(s, j);
+    char *b, *p;
+    if (!name || !base)
+        return NULL;
+    if (!name[0])
+        return numbered(base, j + 1);
+    if (!(b = join(base, "_")))
+        return NULL;
+    p = join(b, name);
+    free(b);
+    return p;
+}
+
 void eom_run_columns_free(eom_run_columns **c)
 {
     int i;
@@ -85,9 +101,9 @@ int eom_run_columns_new(eom_run_columns **out, const eom_system *s,
     for (i = 0; i < 4; i++)
         c->names[k++] = join(fixed[i], "");
     for (i = 0; i < c->m; i++)
-        c->names[k++] = numbered("phi", i + 1);
+        c->names[k++] = eom_run_constraint_column(s, "phi", i);
     for (i = 0; i < c->m; i++)
-        c->names[k++] = numbered("phidot", i + 1);
+        c->names[k++] = eom_run_constraint_column(s, "phidot", i);
     for (i = 0; i < c->nprobes; i++)
         c->names[k++] = join(eom_probe_name(s, i), "");
     if (c->extra & EOM_RUN_ACCELERATIONS)
@@ -95,7 +111,7 @@ int eom_run_columns_new(eom_run_columns **out, const eom_system *s,
             c->names[k++] = join(eom_coord_name(s, i), "_ddot");
     if (c->extra & EOM_RUN_MULTIPLIERS)
         for (i = 0; i < c->m; i++)
-            c->names[k++] = numbered("lambda", i + 1);
+            c->names[k++] = eom_run_constraint_column(s, "lambda", i);
     if (c->extra & EOM_RUN_CONDITION) {
         c->names[k++] = join("rcond_M", "");
         c->names[k++] = join("rcond_S", "");

@@ -158,7 +158,7 @@ static int residuals(const eom_plot_place *p, const char *label,
 {
     const int m = eom_system_nconstraints(s);
     const int t = eom_csv_table_col(tab, "t") + 1;
-    char path[8192], name[32];
+    char path[8192];
     int k, first = 1;
     FILE *f = open_script(p, "residuals", path, sizeof path, err, errlen);
     if (!f)
@@ -169,22 +169,81 @@ static int residuals(const eom_plot_place *p, const char *label,
                "  set title 'constraint residuals: phi (position) and "
                "C qd (velocity)'\n  %s\n  plot ",
             2 * m > MAX_KEY ? "unset key" : "set key outside right");
-    for (k = 1; k <= m; k++) {
+    for (k = 0; k < m; k++) {
+        char *phi = eom_run_constraint_column(s, "phi", k);
+        char *phidot = eom_run_constraint_column(s, "phidot", k);
         int c;
-        snprintf(name, sizeof name, "phi%d", k);
-        c = eom_csv_table_col(tab, name) + 1;
+        if (!phi || !phidot) {
+            free(phi);
+            free(phidot);
+            fclose(f);
+            snprintf(err, errlen, "plots: out of memory");
+            return -1;
+        }
+        c = eom_csv_table_col(tab, phi) + 1;
         fprintf(f, "%scsv every ::1 using %d:(abs($%d) > 1e-17 ? abs($%d) "
-                   ": 1e-17) with lines title '%s'",
-                first ? "" : ", \\\n       ", t, c, c, name);
+                   ": 1e-17) with lines title ",
+                first ? "" : ", \\\n       ", t, c, c);
+        title(f, phi);
         first = 0;
-        snprintf(name, sizeof name, "phidot%d", k);
-        c = eom_csv_table_col(tab, name) + 1;
+        c = eom_csv_table_col(tab, phidot) + 1;
         fprintf(f, ", \\\n       csv every ::1 using %d:(abs($%d) > 1e-17 ? "
-                   "abs($%d) : 1e-17) with lines dt 2 title '%s'",
-                t, c, c, name);
+                   "abs($%d) : 1e-17) with lines dt 2 title ",
+                t, c, c);
+        title(f, phidot);
+        free(phi);
+        free(phidot);
     }
     fprintf(f, "\n}\n");
     return close_script(f, path, err, errlen);
+}
+
+/* The multipliers, when the CSV has them (--columns multipliers): the
+ * constraint forces, each under its constraint's name. */
+static int multipliers(const eom_plot_place *p, const char *label,
+                       const eom_system *s, const eom_csv_table *tab,
+                       char *err, size_t errlen)
+{
+    const int m = eom_system_nconstraints(s);
+    const int t = eom_csv_table_col(tab, "t") + 1;
+    char path[8192];
+    int k;
+    FILE *f = open_script(p, "multipliers", path, sizeof path, err, errlen);
+    if (!f)
+        return -1;
+    begin(f, p, "multipliers", label, "the Lagrange multipliers",
+          "900,600");
+    fprintf(f, "  set title 'Lagrange multipliers (constraint force C^T "
+               "lambda)'\n  %s\n  plot ",
+            m > MAX_KEY ? "unset key" : "set key outside right");
+    for (k = 0; k < m; k++) {
+        char *col = eom_run_constraint_column(s, "lambda", k);
+        if (!col) {
+            fclose(f);
+            snprintf(err, errlen, "plots: out of memory");
+            return -1;
+        }
+        fprintf(f, "%scsv every ::1 using %d:%d with lines title ",
+                k ? ", \\\n       " : "", t,
+                eom_csv_table_col(tab, col) + 1);
+        title(f, col);
+        free(col);
+    }
+    fprintf(f, "\n}\n");
+    return close_script(f, path, err, errlen);
+}
+
+/* 1 if the CSV holds the multipliers' columns. */
+static int has_multipliers(const eom_system *s, const eom_csv_table *tab)
+{
+    char *col;
+    int found;
+    if (eom_system_nconstraints(s) == 0)
+        return 0;
+    col = eom_run_constraint_column(s, "lambda", 0);
+    found = col && eom_csv_table_col(tab, col) >= 0;
+    free(col);
+    return found;
 }
 
 static int probes(const eom_plot_place *p, const char *label,
@@ -213,7 +272,7 @@ static int probes(const eom_plot_place *p, const char *label,
 int eom_run_plots(const char *label, const eom_system *s,
                   const char *csv_path, char *err, size_t errlen)
 {
-    const char *names[4];
+    const char *names[5];
     eom_plot_place p;
     eom_csv_table *tab = NULL;
     char msg[256], script[2048];
@@ -231,6 +290,10 @@ int eom_run_plots(const char *label, const eom_system *s,
     if (rc == 0 && eom_system_nconstraints(s) > 0) {
         names[n++] = "residuals";
         rc = residuals(&p, label, s, tab, err, errlen);
+    }
+    if (rc == 0 && has_multipliers(s, tab)) {
+        names[n++] = "multipliers";
+        rc = multipliers(&p, label, s, tab, err, errlen);
     }
     if (rc == 0 && eom_system_nprobes(s) > 0) {
         names[n++] = "probes";

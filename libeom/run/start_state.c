@@ -6,6 +6,37 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+/* Redundant constraints at the start, named: a warning (the run goes on:
+ * the multipliers take a filtered SVD, at a cost in accuracy). Only when
+ * C M^-1 C^T is nearly singular, and only at a size where the dense
+ * rank-revealing factorization takes well under a second. */
+static void warn_redundant(eom_system *s, const double *x, const char *prog,
+                           const char *label)
+{
+    const int m = eom_system_nconstraints(s), n = eom_system_ncoords(s);
+    double rcM = 1.0, rcS = 1.0;
+    char text[1024];
+    int rank = m;
+    if (eom_condition(s, x, &rcM, &rcS) != EOM_OK || !(rcS < 1e-8))
+        return;
+    if ((double)m * (double)n * (double)(m < n ? m : n) > 2e9) {
+        fprintf(stderr, "%s: %s: warning: C M^-1 C^T is singular or nearly "
+                "so at the start (rcond %.2g): redundant constraints or a "
+                "singular position (too many rows to name the dependent "
+                "ones)\n", prog, label, rcS);
+        return;
+    }
+    if (eom_constraint_rank(s, x, 0.0, &rank, NULL, text, sizeof text) !=
+            EOM_OK ||
+        rank == m)
+        return;
+    fprintf(stderr, "%s: %s: warning: the constraints are redundant at the "
+            "start (rank %d of %d rows): %s. A redundant row costs accuracy "
+            "(each step's multipliers then come from a filtered SVD); leave "
+            "it out (docs/integrators.md, \"Redundant constraints\")\n",
+            prog, label, rank, m, text);
+}
+
 int eom_run_prepare_start(eom_system *s, double *x, const eom_opts *o,
                           const char *prog, const char *label)
 {
@@ -39,6 +70,7 @@ int eom_run_prepare_start(eom_system *s, double *x, const eom_opts *o,
         vmax = fmax(vmax, fabs(phidot[k]));
     }
     free(phi);
+    warn_redundant(s, x, prog, label);
     if (pmax <= o->proj_tol && vmax <= o->proj_tol)
         return 0;
     if (!o->project) {

@@ -71,6 +71,8 @@ typedef struct eom_callback {
     } fn;
     void *user;
     int count;  /* vector callbacks: number of values */
+    char **names; /* constraint blocks: count row names (an entry NULL:
+                     unnamed), or NULL (eom_model_name_constraints) */
     bool set;
 } eom_callback;
 
@@ -118,6 +120,8 @@ struct eom_model {
     eom_callback x0; /* the initial state from the parameters, or unset */
     int n_con;      /* total over the constraint blocks */
     int n_vcon;     /* total over the velocity constraint blocks */
+    eom_cblist *last_con; /* the list (phi or psi) that took the last
+                             constraint block, or NULL */
     eom_attached *att;
     int n_att, cap_att;
     eom_drawing_def *draws; /* drawings (drawing.c) */
@@ -189,6 +193,10 @@ typedef struct eom_tape {
 typedef struct eom_shared {
     atomic_int refs;
     tp_compiled *cc[EOM_N_TAPES]; /* compiled tapes, or NULL */
+    char **con_names; /* [m] the constraint rows' names (NULL: unnamed),
+                         or NULL when no row has one; shared by clones */
+    int *con_sorted;  /* [m] the named rows by name, for lookups */
+    int n_named;      /* entries of con_sorted */
 } eom_shared;
 
 struct eom_system {
@@ -453,6 +461,21 @@ int eom__velocity_rates(eom_system *s, double t, const double *x,
  * (EOM_ERR_MODEL naming the first row that is not, or that does not read
  * qd at all). */
 int eom__check_velocity_rows(eom_system *s);
+/* model.c: record a model's first error (kept; later ones are not) and
+ * return status; names the model accepts (C identifiers not ending in
+ * "_dot"). */
+int eom__model_fail(eom_model *m, int status, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+bool eom__valid_name(const char *s);
+/* constraint_names.c: the rows' names gathered from m's blocks into s's
+ * shared part, checked unique (EOM_ERR_MODEL naming both rows); freed
+ * with the last system that shares them. */
+int eom__constraint_names(eom_system *s, const eom_model *m);
+void eom__constraint_names_free(eom_shared *sh, int m);
+void eom__free_names(char **names, int count);
 /* rheonomic.c: EOM_ERR_MODEL with a message naming what when the
  * Lagrangian, the dissipation or the constraints read the time. */
 int eom__refuse_time(eom_system *s, const char *what);
@@ -563,5 +586,8 @@ void dgeev_(const char *jobvl, const char *jobvr, const int *n, double *a,
             const int *lwork, int *info, size_t jobvl_len, size_t jobvr_len);
 void dgesv_(const int *n, const int *nrhs, double *a, const int *lda,
             int *ipiv, double *b, const int *ldb, int *info);
+void dgeqp3_(const int *m, const int *n, double *a, const int *lda,
+             int *jpvt, double *tau, double *work, const int *lwork,
+             int *info);
 
 #endif /* EOM_INTERNAL_H */

@@ -32,13 +32,7 @@ const char *eom_status_name(int status)
     }
 }
 
-static int model_fail(eom_model *m, int status, const char *fmt, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 3, 4)))
-#endif
-    ;
-
-static int model_fail(eom_model *m, int status, const char *fmt, ...)
+int eom__model_fail(eom_model *m, int status, const char *fmt, ...)
 {
     if (m->status == EOM_OK) {
         va_list ap;
@@ -81,6 +75,10 @@ void eom_model_free(eom_model **m)
     free((*m)->T.v);
     free((*m)->V.v);
     free((*m)->R.v);
+    for (i = 0; i < (*m)->phi.n; i++)
+        eom__free_names((*m)->phi.v[i].names, (*m)->phi.v[i].count);
+    for (i = 0; i < (*m)->psi.n; i++)
+        eom__free_names((*m)->psi.v[i].names, (*m)->psi.v[i].count);
     free((*m)->phi.v);
     free((*m)->psi.v);
     for (i = 0; i < (*m)->n_att; i++)
@@ -105,7 +103,7 @@ int eom_model_attach(eom_model *m, void *data, void (*free_fn)(void *))
         eom_attached *na = realloc(m->att, (size_t)nc * sizeof *na);
         if (!na) {
             free_fn(data);
-            return model_fail(m, EOM_ERR_NOMEM, "out of memory");
+            return eom__model_fail(m, EOM_ERR_NOMEM, "out of memory");
         }
         m->att = na;
         m->cap_att = nc;
@@ -136,7 +134,7 @@ static char *dup_or_empty(const char *s)
 }
 
 /* A C identifier that does not end in "_dot" (reserved for rates). */
-static bool valid_name(const char *s)
+bool eom__valid_name(const char *s)
 {
     size_t i, n;
     if (!s || !s[0] || !(isalpha((unsigned char)s[0]) || s[0] == '_'))
@@ -207,18 +205,18 @@ static int add_named(eom_model *m, eom_named **v, int *n, int *cap,
                      const char *desc)
 {
     eom_named e;
-    if (!valid_name(name))
-        return model_fail(m, EOM_ERR_NAME,
+    if (!eom__valid_name(name))
+        return eom__model_fail(m, EOM_ERR_NAME,
                           "%s name '%s' is not a C identifier (or ends in "
                           "_dot)", kind, name ? name : "(null)");
     if (name_find(m, name))
-        return model_fail(m, EOM_ERR_NAME, "%s name '%s' is already used",
+        return eom__model_fail(m, EOM_ERR_NAME, "%s name '%s' is already used",
                           kind, name);
     if (*n == *cap) {
         int nc = *cap ? 2 * *cap : 8;
         eom_named *nv = realloc(*v, (size_t)nc * sizeof *nv);
         if (!nv)
-            return model_fail(m, EOM_ERR_NOMEM, "out of memory");
+            return eom__model_fail(m, EOM_ERR_NOMEM, "out of memory");
         *v = nv;
         *cap = nc;
     }
@@ -232,7 +230,7 @@ static int add_named(eom_model *m, eom_named **v, int *n, int *cap,
         free(e.name);
         free(e.unit);
         free(e.description);
-        return model_fail(m, EOM_ERR_NOMEM, "out of memory");
+        return eom__model_fail(m, EOM_ERR_NOMEM, "out of memory");
     }
     (*v)[*n] = e;
     return (*n)++;
@@ -245,7 +243,7 @@ int eom_model_add_coord(eom_model *m, const char *name, const char *unit,
     if (!m)
         return EOM_ERR_NULL;
     if (!isfinite(q0) || !isfinite(qd0))
-        return model_fail(m, EOM_ERR_NONFINITE,
+        return eom__model_fail(m, EOM_ERR_NONFINITE,
                           "coordinate '%s': initial value or rate is not "
                           "finite", name ? name : "(null)");
     k = add_named(m, &m->coords, &m->n_coords, &m->cap_coords, "coordinate",
@@ -264,7 +262,7 @@ int eom_model_add_param(eom_model *m, const char *name, const char *unit,
     if (!m)
         return EOM_ERR_NULL;
     if (!isfinite(dflt))
-        return model_fail(m, EOM_ERR_NONFINITE,
+        return eom__model_fail(m, EOM_ERR_NONFINITE,
                           "parameter '%s': default is not finite",
                           name ? name : "(null)");
     k = add_named(m, &m->params, &m->n_params, &m->cap_params, "parameter",
@@ -281,7 +279,7 @@ int eom_model_add_probe(eom_model *m, const char *name, const char *unit,
     if (!m)
         return EOM_ERR_NULL;
     if (!f)
-        return model_fail(m, EOM_ERR_NULL, "probe '%s': function is NULL",
+        return eom__model_fail(m, EOM_ERR_NULL, "probe '%s': function is NULL",
                           name ? name : "(null)");
     k = add_named(m, &m->probes, &m->n_probes, &m->cap_probes, "probe",
                   name, unit, NULL);
@@ -297,14 +295,14 @@ static int push_cb(eom_model *m, eom_cblist *list, eom_callback cb,
                    bool replace, const char *what)
 {
     if (!cb.fn.scalar && !cb.fn.vector)
-        return model_fail(m, EOM_ERR_NULL, "%s function is NULL", what);
+        return eom__model_fail(m, EOM_ERR_NULL, "%s function is NULL", what);
     if (replace)
         list->n = 0;
     if (list->n == list->cap) {
         int nc = list->cap ? 2 * list->cap : 4;
         eom_callback *nv = realloc(list->v, (size_t)nc * sizeof *nv);
         if (!nv)
-            return model_fail(m, EOM_ERR_NOMEM, "out of memory");
+            return eom__model_fail(m, EOM_ERR_NOMEM, "out of memory");
         list->v = nv;
         list->cap = nc;
     }
@@ -361,7 +359,7 @@ int eom_model_set_lagrangian(eom_model *m, eom_scalar_fn L, void *user)
     if (!m)
         return EOM_ERR_NULL;
     if (!L)
-        return model_fail(m, EOM_ERR_NULL, "Lagrangian function is NULL");
+        return eom__model_fail(m, EOM_ERR_NULL, "Lagrangian function is NULL");
     m->L.fn.scalar = L;
     m->L.user = user;
     m->L.set = true;
@@ -373,7 +371,7 @@ int eom_model_set_forces(eom_model *m, eom_vector_fn Q, void *user)
     if (!m)
         return EOM_ERR_NULL;
     if (!Q)
-        return model_fail(m, EOM_ERR_NULL, "force function is NULL");
+        return eom__model_fail(m, EOM_ERR_NULL, "force function is NULL");
     m->Q.fn.vector = Q;
     m->Q.user = user;
     m->Q.set = true;
@@ -388,18 +386,26 @@ static int constraint_cb(eom_model *m, int count, eom_vector_fn phi,
     if (!m)
         return EOM_ERR_NULL;
     if (!phi)
-        return model_fail(m, EOM_ERR_NULL, "constraint function is NULL");
+        return eom__model_fail(m, EOM_ERR_NULL, "constraint function is NULL");
     if (count < 1 || count > 100000)
-        return model_fail(m, EOM_ERR_ARG, "constraint count %d", count);
+        return eom__model_fail(m, EOM_ERR_ARG, "constraint count %d", count);
     memset(&cb, 0, sizeof cb);
     cb.fn.vector = phi;
     cb.user = user;
     cb.count = count;
-    if (replace)
+    if (replace) {
+        int i;
+        for (i = 0; i < m->phi.n; i++) {
+            eom__free_names(m->phi.v[i].names, m->phi.v[i].count);
+            m->phi.v[i].names = NULL;
+        }
         m->n_con = 0;
+    }
     rc = push_cb(m, &m->phi, cb, replace, "constraint");
-    if (rc == EOM_OK)
+    if (rc == EOM_OK) {
         m->n_con += count;
+        m->last_con = &m->phi;
+    }
     return rc;
 }
 
@@ -420,7 +426,7 @@ int eom_model_set_initial(eom_model *m, eom_vector_fn x0, void *user)
     if (!m)
         return EOM_ERR_NULL;
     if (!x0)
-        return model_fail(m, EOM_ERR_NULL, "initial state function is NULL");
+        return eom__model_fail(m, EOM_ERR_NULL, "initial state function is NULL");
     memset(&m->x0, 0, sizeof m->x0);
     m->x0.fn.vector = x0;
     m->x0.user = user;
@@ -436,18 +442,20 @@ int eom_model_add_velocity_constraints(eom_model *m, int count,
     if (!m)
         return EOM_ERR_NULL;
     if (!psi)
-        return model_fail(m, EOM_ERR_NULL,
+        return eom__model_fail(m, EOM_ERR_NULL,
                           "velocity constraint function is NULL");
     if (count < 1 || count > 100000)
-        return model_fail(m, EOM_ERR_ARG, "velocity constraint count %d",
+        return eom__model_fail(m, EOM_ERR_ARG, "velocity constraint count %d",
                           count);
     memset(&cb, 0, sizeof cb);
     cb.fn.vector = psi;
     cb.user = user;
     cb.count = count;
     rc = push_cb(m, &m->psi, cb, false, "velocity constraint");
-    if (rc == EOM_OK)
+    if (rc == EOM_OK) {
         m->n_vcon += count;
+        m->last_con = &m->psi;
+    }
     return rc;
 }
 

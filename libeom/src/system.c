@@ -429,8 +429,10 @@ void eom_system_free(eom_system **sp)
         for (k = 0; k < EOM_N_TAPES; k++)
             tp_compiled_free(&s->shared->cc[k]);
     }
-    if (last)
+    if (last && s->shared) {
+        eom__constraint_names_free(s->shared, s->m);
         free(s->shared);
+    }
     free_named(s->coords, s->n);
     free_named(s->params, s->np);
     free_named(s->probes, s->nprobe);
@@ -638,6 +640,11 @@ int eom_system_new(eom_system **out, const eom_model *m, char *errmsg,
     }
     atomic_init(&s->shared->refs, 1);
     memset(s->shared->cc, 0, sizeof s->shared->cc);
+    s->shared->con_names = NULL;
+    s->shared->con_sorted = NULL;
+    s->shared->n_named = 0;
+    if ((rc = eom__constraint_names(s, m)) != EOM_OK)
+        goto fail;
     s->coords = copy_named(m->coords, s->n);
     s->params = copy_named(m->params, s->np);
     s->probes = copy_named(m->probes, s->nprobe);

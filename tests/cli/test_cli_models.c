@@ -849,9 +849,13 @@ static void case_columns(void)
         return;
     }
     CHECK_INT(c.nrows, 11);
+    /* the constraint's columns carry its name from the file */
+    CHECK(csv_col(&c, "phi_rod") > csv_col(&c, "W"));
+    CHECK(csv_col(&c, "phidot_rod") == csv_col(&c, "phi_rod") + 1);
+    CHECK(csv_col(&c, "phi1") < 0 && csv_col(&c, "lambda1") < 0);
     /* the groups come in one order, whatever the order asked for */
-    CHECK(csv_col(&c, "x_ddot") < csv_col(&c, "lambda1"));
-    CHECK(csv_col(&c, "lambda1") < csv_col(&c, "rcond_M"));
+    CHECK(csv_col(&c, "x_ddot") < csv_col(&c, "lambda_rod"));
+    CHECK(csv_col(&c, "lambda_rod") < csv_col(&c, "rcond_M"));
     CHECK(csv_col(&c, "rcond_S") == c.ncols - 1);
     for (i = 0; i < c.nrows; i++) {
         const double x = at(&c, i, csv_col(&c, "x"));
@@ -861,7 +865,7 @@ static void case_columns(void)
         const double lam = m * (g * y - vx * vx - vy * vy) / (2 * l * l);
         const double rM = at(&c, i, csv_col(&c, "rcond_M"));
         const double rS = at(&c, i, csv_col(&c, "rcond_S"));
-        CHECK_NEAR(at(&c, i, csv_col(&c, "lambda1")), lam, 1e-9);
+        CHECK_NEAR(at(&c, i, csv_col(&c, "lambda_rod")), lam, 1e-9);
         CHECK_NEAR(at(&c, i, csv_col(&c, "x_ddot")), 2 * lam * x / m, 1e-9);
         CHECK_NEAR(at(&c, i, csv_col(&c, "y_ddot")), -g + 2 * lam * y / m,
                    1e-9);
@@ -874,6 +878,81 @@ static void case_columns(void)
     run(&r, args);
     CHECK_INT(r.status, 2);
     CHECK_HAS(r.err, "unknown group 'forces'");
+    result_free(&r);
+}
+
+/* Constraint names from a file: a family's members (pin1, pin2) and a
+ * vector's components (at_x ..) name the CSV's phi, phidot and lambda
+ * columns, --describe and the plots' legends; the vector's third row,
+ * u - a = (u - x) + (x - a), depends on two others by construction and
+ * the warning at the start says so by name. */
+static void case_constraint_names(void)
+{
+    char file[400], out[400], dir[300], msg[256], *text, *gp;
+    const char *args[] = {file, "--columns", "multipliers", "--t-end", "0.2",
+                          "--out", out, "--plots", NULL};
+    const char *describe[] = {file, "--describe", NULL};
+    static const char *const cols[] = {
+        "phi_pin1", "phi_pin2", "phi_at_x", "phi_at_y", "phi_at_z",
+        "phidot_pin1", "phidot_at_z", "lambda_pin1", "lambda_at_z"};
+    FILE *f;
+    result r;
+    csv c;
+    size_t k;
+    scratch(dir, sizeof dir, "names");
+    CHECK(mkdir(dir, 0700) == 0);
+    snprintf(file, sizeof file, "%s/named.eom", dir);
+    snprintf(out, sizeof out, "%s/named.csv", dir);
+    f = fopen(file, "w");
+    CHECK(f != NULL);
+    if (!f)
+        return;
+    fputs("param mass = 1 [kg]\nparam a = 1 [m]\nparam b = 2 [m]\n"
+          "param h = 0.5 [m]\n"
+          "coord x = 1 [m]\ncoord y = 2 [m]\ncoord z = 0.5 [m]\n"
+          "coord u = 1 [m]\ncoord w = 0 [m] rate 1\n"
+          "T = mass/2*(x_dot^2 + y_dot^2 + z_dot^2 + u_dot^2 + w_dot^2)\n"
+          "constraint pin[i in 1..2] = if(i == 1, x - a, y - b)\n"
+          "constraint at = vec(z - h, u - x, u - a)\n", f);
+    fclose(f);
+    run(&r, args);
+    CHECK_INT(r.status, 0);
+    /* one of pin1, at_y, at_z as a combination of the other two (which
+     * one is the pivoting's choice); pin2 and at_x take no part */
+    CHECK_HAS(r.err, "rank 4 of 5 rows");
+    CHECK_HAS(r.err, "'at_z'");
+    CHECK_HAS(r.err, "'at_y'");
+    CHECK_HAS(r.err, "'pin1'");
+    CHECK(!has(r.err, "'pin2'") && !has(r.err, "'at_x'"));
+    result_free(&r);
+    text = read_file(out, NULL);
+    CHECK(text != NULL);
+    if (text && csv_parse(text, &c, msg, sizeof msg) == 0) {
+        for (k = 0; k < sizeof cols / sizeof cols[0]; k++)
+            if (csv_col(&c, cols[k]) < 0)
+                CHECK_FAIL_("no column %s", cols[k]);
+        CHECK(csv_col(&c, "phi1") < 0);
+        free(c.v);
+    } else {
+        CHECK_FAIL_("%s", text ? msg : "no CSV");
+    }
+    free(text);
+    /* the legends of the residual and multiplier plots */
+    snprintf(file + strlen(dir), sizeof file - strlen(dir),
+             "/named-residuals.gp");
+    gp = read_file(file, NULL);
+    CHECK(gp != NULL && has(gp, "'phidot_at_y'") && !has(gp, "'phi1'"));
+    free(gp);
+    snprintf(file + strlen(dir), sizeof file - strlen(dir),
+             "/named-multipliers.gp");
+    gp = read_file(file, NULL);
+    CHECK(gp != NULL && has(gp, "'lambda_pin2'"));
+    free(gp);
+    snprintf(file, sizeof file, "%s/named.eom", dir);
+    run(&r, describe);
+    CHECK_INT(r.status, 0);
+    CHECK_HAS(r.out, "constraints: 5; CSV columns phi_pin1, phi_pin2, "
+                     "phi_at_x, phi_at_y, phi_at_z");
     result_free(&r);
 }
 
@@ -1092,6 +1171,7 @@ static const struct {
 } cases[] = {
     {"model_compiled", case_compiled},
     {"model_columns", case_columns},
+    {"model_constraint_names", case_constraint_names},
     {"model_linearize", case_linearize},
     {"model_linearize_names", case_linearize_names},
     {"model_sensitivity", case_sensitivity},

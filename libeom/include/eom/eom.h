@@ -162,6 +162,14 @@ EOM_API int eom_model_add_constraints(eom_model *m, int count,
 EOM_API int eom_model_add_velocity_constraints(eom_model *m, int count,
                                                eom_vector_fn psi,
                                                void *user);
+/* Names for the rows of the constraint block added last (holonomic or
+ * velocity): count names, the block's count, in its row order; a NULL
+ * entry leaves its row unnamed. Names are C identifiers, unique among all
+ * constraint rows of the model (checked by eom_system_new). A named row's
+ * columns in eom-run's CSV are phi_NAME, phidot_NAME and lambda_NAME; an
+ * unnamed row k's (from 1) are phiK, phidotK and lambdaK. */
+EOM_API int eom_model_name_constraints(eom_model *m, int count,
+                                       const char *const *names);
 /* The default initial state as a function of the parameters: x0 sets
  * out[0 .. 2n-1], the coordinates then the rates, from eom_param values
  * and constants only (eom_q, eom_qd and eom_time are errors in it). It
@@ -277,6 +285,10 @@ EOM_API int eom_system_ncoords(const eom_system *s);
 EOM_API int eom_system_nconstraints(const eom_system *s);
 /* Of them, the velocity (non-holonomic) rows, the last ones. */
 EOM_API int eom_system_nvelocity_constraints(const eom_system *s);
+/* Constraint row j's name ("" when unnamed; NULL when j is out of
+ * range), and the row of a name (-1 when no row has it). */
+EOM_API const char *eom_constraint_name(const eom_system *s, int j);
+EOM_API int eom_constraint_index(const eom_system *s, const char *name);
 EOM_API int eom_system_nparams(const eom_system *s);
 EOM_API int eom_system_nprobes(const eom_system *s);
 /* 1 if T and V were given separately (so both are reported), else 0. */
@@ -382,6 +394,21 @@ EOM_API int eom_residuals(eom_system *s, const double *x, double *phi,
  * of M and of S = C M^-1 C^T at x; rcond_S is 1 without constraints. */
 EOM_API int eom_condition(eom_system *s, const double *x, double *rcond_M,
                           double *rcond_S);
+
+/* Which constraint rows depend on others at q = x[0..n): the rows of C,
+ * each scaled to unit length, by a QR factorization with column pivoting
+ * of C^T (LAPACK dgeqp3; a diagnostic: O(n m min(n, m)) operations and
+ * n m doubles). A row is dependent when its part outside the span of
+ * the rows chosen before it is below tol (<= 0: 1e-9) relative to the
+ * largest. *rank receives the rank; dependent (m, may be NULL) receives
+ * for each row -1 when it is independent, else the independent row with
+ * the largest coefficient in its combination; text (may be NULL) a
+ * sentence naming each dependent row and the rows it combines, by the
+ * names of eom_constraint_name ("row K" for an unnamed one), e.g.
+ * "'drive2' = 1 'drive'". Velocity rows count like holonomic ones. */
+EOM_API int eom_constraint_rank(eom_system *s, const double *x, double tol,
+                                int *rank, int *dependent, char *text,
+                                size_t textlen);
 
 typedef struct eom_energy {
     double T, V;  /* NaN when the model gave a whole Lagrangian */

@@ -148,6 +148,13 @@ typedef struct eom_run_row_info {
     double phidot_max; /* max |(C qd + dphi/dt)_k| */
 } eom_run_row_info;
 
+/* The column of constraint row j (from 0) for base "phi", "phidot" or
+ * "lambda": "<base>_<name>" for a row named in the model (phi_drive),
+ * "<base><j + 1>" otherwise (phi3); NULL when j is out of range. The
+ * caller frees it. */
+EOM_API char *eom_run_constraint_column(const eom_system *s,
+                                        const char *base, int j);
+
 /* The columns of s (borrowed; only read) with the optional groups extra
  * (EOM_RUN_* flags, 0 for none). Every name must be unique: a coordinate
  * or probe named like another column is an error. */

@@ -388,6 +388,49 @@ static int cb_constraint(eom_ctx *c, void *user, tp_val *out)
     return 0;
 }
 
+/* The rows of constraint s by name, as cb_constraint stacks them: a
+ * family member as its probe would be named (NAME_1_2), a vector's
+ * components NAME_x .. (a member's NAME_1_x). */
+static int name_rows(lang_inst *in, eom_model *m, int s, int rows)
+{
+    const sym *y = &in->p->syms[s];
+    const int nc = y->shape > SH_SCALAR ? y->shape : 1;
+    char **names = calloc((size_t)rows, sizeof *names);
+    int j, k, rc = 0;
+    if (!names) {
+        lang_fail(in, 0, NULL, "out of memory");
+        return -1;
+    }
+    for (j = 0; j < in->fam[s].size && rc == 0; j++) {
+        long idx[LANG_MAX_IDX];
+        char name[LANG_MAX_NAME + 48];
+        bind_member(in, s, j, idx);
+        member_name(y, idx, name, sizeof name);
+        for (k = 0; k < nc && rc == 0; k++) {
+            const size_t len = strlen(name) + 8;
+            char *row = malloc(len);
+            if (!row) {
+                lang_fail(in, 0, NULL, "out of memory");
+                rc = -1;
+                break;
+            }
+            if (nc > 1)
+                snprintf(row, len, "%s_%s", name, comp_suffix(nc, k));
+            else
+                snprintf(row, len, "%s", name);
+            names[j * nc + k] = row;
+        }
+    }
+    unbind(in, s);
+    if (rc == 0)
+        rc = eom_model_name_constraints(m, rows,
+                                        (const char *const *)names);
+    for (j = 0; j < rows; j++)
+        free(names[j]);
+    free(names);
+    return rc;
+}
+
 static int cb_probe(eom_ctx *c, void *user, tp_val *out)
 {
     lang_cb *cb = user;
@@ -517,6 +560,8 @@ static int add_callbacks(lang_inst *in, eom_model *m)
                            m, rows, cb_constraint, new_cb(in, k, -1, 0))
                      : eom_model_add_constraints(m, rows, cb_constraint,
                                                  new_cb(in, k, -1, 0));
+            if (rc >= 0)
+                rc = name_rows(in, m, k, rows);
         }
         if (y->kind != S_PROBE || y->draw)
             continue;
