@@ -1,7 +1,10 @@
 /* modes_sweep.c - eom-run --modes --sweep (see modes_sweep.h). */
+#define _POSIX_C_SOURCE 200809L /* strdup */
 #include "modes_sweep.h"
 
 #include <math.h>
+#include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -144,13 +147,6 @@ static void follow(int nr, const double *pre, const double *pim,
     }
 }
 
-static void number(FILE *f, double v)
-{
-    char b[40];
-    eom_numtext_format(b, sizeof b, v == 0.0 ? 0.0 : v);
-    fputs(b, f);
-}
-
 /* The gnuplot title text of s (single quotes doubled) in quotes. */
 static void quoted(FILE *f, const char *s)
 {
@@ -235,7 +231,9 @@ int modes_sweep_run(eom_system *s, int k, const modes_sweep *sw,
     double *ore = NULL;
     int *ukeep = NULL, nu = 0, nr = -1, i, j, status = 1;
     unsigned char *flags = calloc((size_t)n2 + 1, 1);
-    FILE *f = NULL;
+    eom_csv_writer *w = NULL;
+    char **names = NULL, err[4096];
+    double *row_out = NULL;
     memset(&lin, 0, sizeof lin);
     if (!x || !flags) {
         fprintf(stderr, "eom-run: out of memory\n");
@@ -284,31 +282,48 @@ int modes_sweep_run(eom_system *s, int k, const modes_sweep *sw,
         }
         eom_steady_linear_free(&lin);
     }
-    if (!(f = fopen(out, "w"))) {
-        fprintf(stderr, "eom-run: cannot write '%s'\n", out);
+    /* through the run layer's writer: OUT.tmp-XXXXXX renamed onto OUT
+     * when whole, so a sweep that fails or is killed leaves OUT as it
+     * was */
+    names = calloc(2 * (size_t)nr + 1, sizeof *names);
+    row_out = malloc((2 * (size_t)nr + 1) * sizeof *row_out);
+    if (!names || !row_out) {
+        fprintf(stderr, "eom-run: out of memory\n");
         goto done;
     }
-    fputs(sw->name, f);
-    for (j = 0; j < nr; j++)
-        fprintf(f, ",re%d,im%d", j + 1, j + 1);
-    fputc('\n', f);
+    names[0] = (char *)(uintptr_t)sw->name; /* read only */
+    for (j = 0; j < 2 * nr; j++) {
+        char b[32];
+        snprintf(b, sizeof b, "%s%d", j % 2 ? "im" : "re", j / 2 + 1);
+        if (!(names[1 + j] = strdup(b))) {
+            fprintf(stderr, "eom-run: out of memory\n");
+            goto done;
+        }
+    }
+    if (eom_csv_writer_open(&w, out, err, sizeof err) != 0 ||
+        eom_csv_writer_header(w, names, 2 * nr + 1, err, sizeof err) != 0) {
+        fprintf(stderr, "eom-run: %s\n", err);
+        goto done;
+    }
     for (i = 0; i < N; i++) {
         const double *row = vals + (size_t)i * 2 * nr;
-        number(f, value_at(sw, i));
+        row_out[0] = value_at(sw, i);
         for (j = 0; j < nr; j++) {
-            fputc(',', f);
-            number(f, row[j]);
-            fputc(',', f);
-            number(f, row[nr + j]);
+            row_out[1 + 2 * j] = row[j];
+            row_out[2 + 2 * j] = row[nr + j];
         }
-        fputc('\n', f);
+        for (j = 0; j <= 2 * nr; j++) /* no "-0" in the file */
+            row_out[j] = row_out[j] == 0.0 ? 0.0 : row_out[j];
+        if (eom_csv_writer_row(w, row_out, 2 * nr + 1, err,
+                               sizeof err) != 0) {
+            fprintf(stderr, "eom-run: %s\n", err);
+            goto done;
+        }
     }
-    if (fclose(f) != 0) {
-        f = NULL;
-        fprintf(stderr, "eom-run: cannot write '%s'\n", out);
+    if (eom_csv_writer_close(&w, err, sizeof err) != 0) {
+        fprintf(stderr, "eom-run: %s\n", err);
         goto done;
     }
-    f = NULL;
     if (!quiet)
         fprintf(stderr, "eom-run: %s: the eigenvalues of %d states at %d "
                 "values of %s written to '%s'\n", label, nr, N, sw->name,
@@ -322,8 +337,15 @@ int modes_sweep_run(eom_system *s, int k, const modes_sweep *sw,
     }
     status = 0;
 done:
-    if (f)
-        fclose(f);
+    if (w) { /* failed part-way: OUT stays as it was */
+        eom_csv_writer_discard(&w, err, sizeof err);
+        fprintf(stderr, "eom-run: %s\n", err);
+    }
+    if (names)
+        for (j = 1; j <= 2 * nr; j++)
+            free(names[j]);
+    free(names);
+    free(row_out);
     eom_steady_linear_free(&lin);
     free(x);
     free(vals);

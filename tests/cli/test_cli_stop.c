@@ -5,7 +5,8 @@
  * fails (a file size limit, RLIMIT_FSIZE, makes the summary's writes fail
  * with EFBIG part-way as a full disk does with ENOSPC: the failure is
  * said once with its reason, the summary keeps whole rows and the runs
- * not started are not run). One case per meson test:
+ * not started are not run; eom-run --modes --sweep keeps the old CSV).
+ * One case per meson test:
  *   test_cli_stop EOM_RUN EOM_ENSEMBLE MODELS_DIR CASE */
 #define _XOPEN_SOURCE 700 /* realpath */
 #include <dirent.h>
@@ -354,10 +355,46 @@ static void case_ensemble_full(void)
     CHECK_INT(count_prefix(traj, "run-"), 200);
 }
 
+/* eom-run --modes --sweep whose CSV cannot be written whole (EFBIG past
+ * a file size limit): the old file stays as it was, the rows written are
+ * in FILE.partial, no temporary file is left, and the reason is given;
+ * without the limit the file is replaced. */
+static void case_sweep_full(void)
+{
+    char out[300], partial[320], errp[300], *text, *msg;
+    const char *args[] = {eom_run_path, "rolling-disk", "--modes", "--set",
+                          "theta=0", "--sweep", "g=0:30:400", "-q", "--out",
+                          out, NULL};
+    FILE *f;
+    scratch(out, sizeof out, "sweep.csv");
+    scratch(errp, sizeof errp, "err.txt");
+    snprintf(partial, sizeof partial, "%s.partial", out);
+    f = fopen(out, "w");
+    CHECK(f != NULL);
+    if (f) {
+        fputs("g,re1\n0,1\n", f);
+        fclose(f);
+    }
+    CHECK_INT(reap(spawn(args, errp, 3000)), 1);
+    msg = read_file(errp, NULL);
+    CHECK_HAS(msg, strerror(EFBIG));
+    CHECK_HAS(msg, "sweep.csv.partial");
+    free(msg);
+    text = read_file(out, NULL);
+    CHECK(text && strcmp(text, "g,re1\n0,1\n") == 0);
+    free(text);
+    CHECK(size_of(partial) > 0);
+    CHECK_INT(first_with_prefix("sweep.csv.tmp-") >= 0, 0);
+    CHECK_INT(reap(spawn(args, errp, 0)), 0);
+    CHECK_INT((int)lines_of(out), 401);
+    unlink(partial);
+}
+
 static const struct {
     const char *name;
     void (*fn)(void);
 } cases[] = {
+    {"sweep_full", case_sweep_full},
     {"run_signals", case_run_signals},
     {"ensemble_signal", case_ensemble_signal},
     {"ensemble_full", case_ensemble_full},
