@@ -73,7 +73,8 @@ void ensemble_worker_run(worker *w, long i, run_result *r)
     const int n = eom_system_ncoords(w->s), m = eom_system_nconstraints(w->s);
     const int np = eom_system_nparams(w->s);
     eom_opts o = job->opts;
-    double t_end = job->t_end, W = 0.0, t0 = now();
+    double t_end = job->t_end, W = 0.0, t0 = now(), scale = 0.0;
+    eom_run_measures ms = {NAN, NAN, NAN};
     eom_integ *it = NULL;
     eom_energy e;
     eom_stats st;
@@ -128,8 +129,10 @@ void ensemble_worker_run(worker *w, long i, run_result *r)
             goto out;
         }
     }
-    if (eom_energy_at(w->s, 0.0, w->x, &e) == EOM_OK)
+    if (eom_energy_at(w->s, 0.0, w->x, &e) == EOM_OK) {
         r->E0 = e.E;
+        scale = fmax(fabs(e.E), fabs(e.L));
+    }
     if (eom_integ_new(&it, w->s, &o, 0.0, w->x) != EOM_OK) {
         snprintf(r->msg, sizeof r->msg, "%s", eom_system_errmsg(w->s));
         goto out;
@@ -142,12 +145,21 @@ void ensemble_worker_run(worker *w, long i, run_result *r)
         snprintf(r->msg, sizeof r->msg, "%s", eom_integ_errmsg(it));
         goto stats;
     }
-    if (eom_energy_at(w->s, t_end, w->x, &e) == EOM_OK)
+    ms.drift_rel = ms.phidot_max = NAN;
+    if (eom_energy_at(w->s, t_end, w->x, &e) == EOM_OK) {
         r->energy_error = e.E + W - r->E0;
+        scale = fmax(scale, fmax(fabs(e.E), fabs(e.L)));
+        if (scale > 0.0)
+            ms.drift_rel = fabs(r->energy_error) / scale;
+    }
     r->residual = 0.0;
-    if (m > 0 && eom_residuals(w->s, w->x, w->phi, NULL) == EOM_OK)
-        for (k = 0; k < m; k++)
+    if (m > 0 && eom_residuals(w->s, w->x, w->phi, w->phi + m) == EOM_OK) {
+        ms.phidot_max = 0.0;
+        for (k = 0; k < m; k++) {
             r->residual = fmax(r->residual, fabs(w->phi[k]));
+            ms.phidot_max = fmax(ms.phidot_max, fabs(w->phi[m + k]));
+        }
+    }
     r->final = malloc(2 * (size_t)n * sizeof *r->final);
     if (!r->final) {
         snprintf(r->msg, sizeof r->msg, "out of memory");
@@ -159,6 +171,17 @@ stats:
     if (eom_integ_stats(it, &st) == EOM_OK) {
         r->steps = st.steps;
         r->rhs = st.rhs_evals;
+        if (r->ok) {
+            /* the verdict of eom-run, from the ends of the run: its
+             * drift at t_end, its residual there and after every step */
+            eom_run_verdict v;
+            ms.phi_max = fmax(r->residual, st.max_residual);
+            eom_run_judge(&o, &st, &ms, &v);
+            if (!v.healthy) {
+                r->ok = 2;
+                snprintf(r->msg, sizeof r->msg, "unhealthy: %s", v.text);
+            }
+        }
     }
 out:
     eom_integ_free(&it);

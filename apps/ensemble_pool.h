@@ -15,7 +15,9 @@
 
 typedef struct run_result {
     int done;          /* the worker has finished it */
-    int ok;            /* 0: failed, see msg */
+    int ok;            /* 0: failed, see msg; 1: ok; 2: reached t_end
+                          but unhealthy (eom_run_judge), msg names the
+                          measure */
     double *final;     /* [2n] the state at t_end (NULL when failed early) */
     double E0;         /* E at the start */
     double energy_error; /* E + W - E0 at t_end */

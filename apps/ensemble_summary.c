@@ -100,7 +100,7 @@ static void summary_row(FILE *f, const ensemble_runs *runs, long i, int n,
         fputc(',', f);
         put_num(f, runs->v[i * runs->ncols + k]);
     }
-    fputs(r->ok ? ",ok" : ",failed", f);
+    fputs(r->ok == 1 ? ",ok" : r->ok == 2 ? ",unhealthy" : ",failed", f);
     for (k = 0; k < 2 * n; k++) {
         fputc(',', f);
         put_num(f, r->final ? r->final[k] : NAN);
@@ -438,8 +438,10 @@ static int check_row(const char *line, size_t len, const ensemble_runs *runs,
             }
         } else if (f == runs->ncols + 1) {
             if (!((fl == 2 && memcmp(p, "ok", 2) == 0) ||
-                  (fl == 6 && memcmp(p, "failed", 6) == 0))) {
-                snprintf(why, wl, "the status is not ok or failed");
+                  (fl == 6 && memcmp(p, "failed", 6) == 0) ||
+                  (fl == 9 && memcmp(p, "unhealthy", 9) == 0))) {
+                snprintf(why, wl, "the status is not ok, unhealthy or "
+                         "failed");
                 return -1;
             }
         } else if (f == nf - 3 || f == nf - 2) {

@@ -10,7 +10,9 @@
  *
  * Exit status: 0 every run succeeded, 1 some run failed (the summary says
  * which), the ensemble could not start or the summary could not be
- * written, 2 the command line is wrong, 128 + N stopped by signal N
+ * written, 2 the command line is wrong, 3 no run failed but some ended
+ * unhealthy (eom_run_judge; not with --accept-unhealthy), 128 + N
+ * stopped by signal N
  * (SIGTERM, SIGINT, SIGHUP: the runs under way finish and are written,
  * --resume does the rest). */
 #define _GNU_SOURCE /* getopt_long */
@@ -39,7 +41,7 @@
 #include "eom/run.h"
 #include "overrides.h"
 
-enum { EXIT_RUN = 1, EXIT_USAGE = CLI_EXIT_USAGE };
+enum { EXIT_RUN = 1, EXIT_USAGE = CLI_EXIT_USAGE, EXIT_UNHEALTHY = 3 };
 
 /* This process's MPI rank and the number of ranks (0 and 1 without MPI):
  * only rank 0 speaks on the command line's behalf and writes the
@@ -86,12 +88,13 @@ typedef struct cli {
     eom_opts opts;
     int threads, resume, quiet, help;
     int compiled; /* --compiled: every run on compiled tapes */
+    int accept_unhealthy; /* --accept-unhealthy: exit 0 all the same */
 } cli;
 
 enum { OPT_RUNS = 256, OPT_SWEEP, OPT_THREADS, OPT_TRAJ, OPT_RESUME,
        OPT_INTEGRATOR, OPT_DT, OPT_RTOL, OPT_ATOL, OPT_MAX_STEPS,
        OPT_NO_PROJECT, OPT_SAMPLE, OPT_RANDOM, OPT_COUNT, OPT_SEED,
-       OPT_COMPILED, OPT_RANK_TIMEOUT };
+       OPT_COMPILED, OPT_RANK_TIMEOUT, OPT_ACCEPT_UNHEALTHY };
 
 static const struct option long_options[] = {
     {"help", no_argument, NULL, 'h'},
@@ -115,6 +118,7 @@ static const struct option long_options[] = {
     {"no-project", no_argument, NULL, OPT_NO_PROJECT},
     {"compiled", no_argument, NULL, OPT_COMPILED},
     {"rank-timeout", required_argument, NULL, OPT_RANK_TIMEOUT},
+    {"accept-unhealthy", no_argument, NULL, OPT_ACCEPT_UNHEALTHY},
     {"quiet", no_argument, NULL, 'q'},
     {NULL, 0, NULL, 0},
 };
@@ -157,7 +161,7 @@ static void help(void)
         "  -t, --t-end T         end time of every run, >= 0 (default 10)\n"
         "      --sample DT       rows of the trajectories (default 0.01)\n"
         "      --integrator M    rk4, erk, adams, bdf, ida, esdirk or imex "
-        "(default rk4)\n"
+        "(default erk)\n"
         "      --dt H, --rtol R, --atol A, --max-steps N, --no-project\n"
         "                        as for eom-run\n"
         "      --compiled        every run on compiled tapes, compiled once "
@@ -166,10 +170,15 @@ static void help(void)
         "not answered\n"
         "                        for S seconds (default 600; longer than "
         "the longest run)\n"
+        "      --accept-unhealthy  exit with 0 when runs end unhealthy "
+        "(their rows say so)\n"
         "  -q, --quiet           no progress line and no summary line\n"
         "\nExit status: 0 every run succeeded, 1 some run failed (see the "
         "summary's\nstatus and message columns) or the ensemble could not "
-        "start, 2 the command\nline is wrong, 128 + N stopped by signal N "
+        "start, 2 the command\nline is wrong, 3 no run failed but some "
+        "ended unhealthy (status unhealthy:\ntheir energy drift, residual "
+        "or branch switches exceed what the tolerance\nallows; "
+        "docs/run.md), 128 + N stopped by signal N "
         "(SIGTERM, SIGINT, SIGHUP: the runs\nunder way are written, "
         "--resume does the rest). See docs/ensembles.md.\n");
 }
@@ -239,6 +248,7 @@ static int parse(int argc, char **argv, cli *c)
             rc = cli_number_arg("--rank-timeout", optarg, 1,
                                 &g_rank_timeout);
             break;
+        case OPT_ACCEPT_UNHEALTHY: c->accept_unhealthy = 1; break;
         case 'q': c->quiet = 1; break;
         case ':':
             return cli_usage_error("option '%s' needs an argument",
@@ -417,7 +427,7 @@ static int run(cli *c, const demo *d)
     unsigned char *skip = NULL;
     double *settings = NULL, *x0 = NULL, *p0 = NULL, t0;
     char err[4096], *head = NULL, *inputs = NULL;
-    long i, ndone = 0, failed = 0, written = 0;
+    long i, ndone = 0, failed = 0, unhealthy = 0, written = 0;
     int status = EXIT_RUN, n, k, started = 0, tty, active = g_size - 1;
     int wrote = 0; /* 0, or -1 once a row could not be written */
     int stalled = 0; /* an MPI rank stopped answering */
@@ -565,6 +575,7 @@ static int run(cli *c, const demo *d)
             break;
         }
         failed += !job.res[i].ok;
+        unhealthy += job.res[i].ok == 2;
         written++;
         free(job.res[i].final);
         job.res[i].final = NULL;
@@ -624,7 +635,15 @@ static int run(cli *c, const demo *d)
                 started == 1 ? "" : "s", now() - t0, failed,
                 ndone ? ", kept from before: " : "",
                 ndone ? "see the summary" : "");
-    status = failed ? EXIT_RUN : EXIT_SUCCESS;
+    if (unhealthy > 0)
+        fprintf(stderr, "eom-ensemble: %s: %ld run%s unhealthy (status "
+                "unhealthy in the summary, the measure in its message)%s\n",
+                d->name, unhealthy, unhealthy == 1 ? "" : "s",
+                c->accept_unhealthy ? ": accepted as asked"
+                                    : "; --accept-unhealthy accepts them");
+    status = failed                                 ? EXIT_RUN
+             : unhealthy > 0 && !c->accept_unhealthy ? EXIT_UNHEALTHY
+                                                     : EXIT_SUCCESS;
 destroy:
     pthread_mutex_destroy(&job.lock);
     pthread_cond_destroy(&job.cond);
@@ -673,7 +692,10 @@ int main(int argc, char **argv)
     c.sample = 0.01;
     c.threads = cores > 0 ? (int)(cores > 1024 ? 1024 : cores) : 1;
     eom_opts_default(&c.opts);
-    c.opts.method = EOM_RK4;
+    /* erk, as eom-run: its error control holds every run to the
+     * tolerances, where rk4's fixed step can be wrong with no sign but
+     * the energy (--integrator rk4 still gives it) */
+    c.opts.method = EOM_ERK;
     c.opts.dt = 1e-3;
     c.opts.rtol = 1e-8;
     c.opts.atol = 1e-10;

@@ -248,10 +248,10 @@ static void case_resume_inputs(void)
     }
     {
         const char *a[] = {model, "--sweep", "k=50:100:3", "--t-end", "0.2",
-                           "--integrator", "erk", "-q", "--out", out,
+                           "--integrator", "rk4", "-q", "--out", out,
                            "--resume", NULL};
         CHECK_INT(ensemble(&r, a), 1);
-        CHECK_HAS(r.err, "--integrator (rk4 there, erk now)");
+        CHECK_HAS(r.err, "--integrator (erk there, rk4 now)");
         result_free(&r);
     }
     {

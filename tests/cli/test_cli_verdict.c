@@ -15,8 +15,11 @@
  *                      drifts by percents, status 3; projected, healthy
  *   verdict_shipped    every model in models/ with its defaults: status 0,
  *                      "verdict: healthy"
+ *   verdict_ensemble   eom-ensemble's runs of the squeezer: rk4's rows
+ *                      unhealthy, status 3; erk, its default, healthy
  *
- * usage: test_cli_verdict EOM_RUN MODELS_DIR CASE */
+ * usage: test_cli_verdict EOM_RUN MODELS_DIR CASE (EOM_ENSEMBLE for
+ * verdict_ensemble) */
 #define _XOPEN_SOURCE 700 /* realpath */
 #include <dirent.h>
 #include <limits.h>
@@ -284,10 +287,58 @@ static void case_shipped(void)
     CHECK(count >= 11);
 }
 
+/* eom-ensemble (the program under test for this case): each run judged
+ * as eom-run judges it, status unhealthy in its row with the measure in
+ * its message, exit status 3; erk, the default, healthy; a summary with
+ * unhealthy rows resumed. */
+static void case_ensemble(void)
+{
+    char file[300], out[300], *text;
+    const char *rk4[] = {file, "--sweep", "mom=0.03:0.033:2", "--t-end",
+                         "0.03", "--integrator", "rk4", "--threads", "1",
+                         "--out", out, NULL, NULL};
+    const char *dflt[] = {file, "--sweep", "mom=0.03:0.033:2", "--t-end",
+                          "0.03", "--threads", "1", "--out", out, NULL};
+    result r;
+    if (write_scratch(file, sizeof file, "andrews.eom", andrews) != 0)
+        return;
+    scratch(out, sizeof out, "sum.csv");
+    run(&r, rk4);
+    CHECK_INT(r.status, 3);
+    CHECK_HAS(r.err, "2 runs unhealthy");
+    text = read_file(out, NULL);
+    CHECK_HAS(text, ",unhealthy,");
+    CHECK_HAS(text, "\"unhealthy: relative energy drift 0.0");
+    CHECK(!has(text, ",ok,"));
+    free(text);
+    result_free(&r);
+    /* resumed: the unhealthy rows are rows of this ensemble */
+    rk4[11] = "--resume";
+    run(&r, rk4);
+    CHECK_INT(r.status, 0);
+    result_free(&r);
+    rk4[11] = "--accept-unhealthy";
+    run(&r, rk4);
+    CHECK_INT(r.status, 0);
+    CHECK_HAS(r.err, "accepted as asked");
+    result_free(&r);
+    run(&r, dflt);
+    CHECK_INT(r.status, 0);
+    text = read_file(out, NULL);
+    CHECK_HAS(text, ",ok,");
+    CHECK(!has(text, "unhealthy"));
+    free(text);
+    text = read_file(strcat(out, ".inputs"), NULL);
+    CHECK_HAS(text, "--integrator erk\n");
+    free(text);
+    result_free(&r);
+}
+
 static const struct {
     const char *name;
     void (*fn)(void);
 } cases[] = {
+    {"verdict_ensemble", case_ensemble},
     {"verdict_andrews", case_andrews},
     {"verdict_baumgarte", case_baumgarte},
     {"verdict_shipped", case_shipped},

@@ -221,6 +221,17 @@ static void verdict(void)
     CHECK_INT(v.healthy, 0);
     CHECK(v.measure && strcmp(v.measure, "relative energy drift") == 0);
     CHECK(strstr(v.text, "relative energy drift 2e-05 exceeds 1e-05") != NULL);
+    /* a long run: 10 x the tolerance for each step */
+    st.steps = 5000;
+    eom_run_judge(&o, &st, &m, &v);
+    CHECK_INT(v.healthy, 1);
+    CHECK_NEAR(v.energy_threshold, 5e-4, 1e-18);
+    m.drift_rel = 6e-4;
+    eom_run_judge(&o, &st, &m, &v);
+    CHECK_INT(v.healthy, 0);
+    CHECK(strstr(v.text, "for each of its 5000 steps") != NULL);
+    st.steps = 0;
+    m.drift_rel = 2e-5;
     /* a method held to a looser tolerance is judged against it */
     st.tol_reachable = 1e-7;
     eom_run_judge(&o, &st, &m, &v);

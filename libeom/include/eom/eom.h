@@ -538,7 +538,12 @@ EOM_API const char *eom_method_name(eom_method m);
 EOM_API int eom_method_from_name(const char *name);
 
 typedef struct eom_opts {
-    eom_method method;
+    eom_method method; /* eom_opts_default: EOM_RK4, the paper's fixed
+                          step dt with no error control: a step too long
+                          for the motion gives a wrong run whose only
+                          sign is the energy drift (eom_run_judge in
+                          eom/run.h judges it). eom-run and eom-ensemble
+                          use EOM_ERK, error-controlled, by default */
     double dt;        /* RK4: the step; others: the first step (0: auto) */
     double rtol, atol; /* adaptive methods */
     long max_steps;   /* per call of eom_integ_advance (default 1e7) */
@@ -618,8 +623,10 @@ enum {
 EOM_API const char *eom_erk_table_name(int k);
 
 
-/* Defaults: RK4 with dt = 1e-3, rtol = 1e-8, atol = 1e-10, no atol_vec,
- * the default ERK table. */
+/* Defaults: RK4 with dt = 1e-3 (a fixed step, no error control: set
+ * method = EOM_ERK for a run held to rtol and atol, as eom-run and
+ * eom-ensemble do), rtol = 1e-8, atol = 1e-10, no atol_vec, the default
+ * ERK table. */
 EOM_API void eom_opts_default(eom_opts *o);
 
 typedef struct eom_stats {

@@ -266,16 +266,16 @@ typedef struct eom_run_verdict {
 } eom_run_verdict;
 
 /* The verdict on a run made with options o (its rtol, atol, proj_tol)
- * whose integrator counted st (NULL: no integrator ran; its branch
- * switches and reachable tolerance count as 0) and that measured m (all
- * borrowed), into *v. Healthy when
- *   drift_rel <= clamp(1000 tau, 1e-8, 1e-2),
- *   phi_max and phidot_max <= max(clamp(1000 max(tau, atol), 1e-8,
- *   1e-2), 10 proj_tol),
- *   st->branch_switches == 0,
- * with tau = max(o->rtol, st->tol_reachable); rk4 is judged against the
- * rtol it was given. The measures are judged in that order, and the
- * first out of its threshold is named. */
+ * whose integrator counted st (NULL: no integrator ran; its steps,
+ * branch switches and reachable tolerance count as 0) and that measured
+ * m (all borrowed), into *v. With tau = max(o->rtol, st->tol_reachable)
+ * (rk4 is judged against the rtol it was given), k = st->steps and
+ * allow(x) = clamp(x max(1000, 10 k), 1e-8, 1e-2), healthy when
+ *   drift_rel <= allow(tau),
+ *   phi_max and phidot_max <= max(allow(max(tau, atol)), 10 proj_tol),
+ *   st->branch_switches == 0.
+ * The measures are judged in that order, and the first out of its
+ * threshold is named. */
 EOM_API void eom_run_judge(const eom_opts *o, const eom_stats *st,
                            const eom_run_measures *m, eom_run_verdict *v);
 
