@@ -260,6 +260,8 @@ int eom_csv_writer_flush(eom_csv_writer *w, char *err, size_t errlen)
     return 0;
 }
 
+FILE *csv_writer_file(eom_csv_writer *w) { return w->f; }
+
 void csv_writer_mark_failed(eom_csv_writer *w)
 {
     if (w)

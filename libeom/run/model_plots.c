@@ -300,6 +300,9 @@ int eom_run_plots(const char *label, const eom_system *s,
         rc = probes(&p, label, s, tab, err, errlen);
     }
     eom_csv_table_free(&tab);
+    /* before gnuplot, which may be missing: the page needs none */
+    if (rc == 0)
+        rc = eom_run_animation(label, s, csv_path, err, errlen);
     for (k = 0; k < n && rc == 0; k++) {
         snprintf(script, sizeof script, "%s-%s.gp", p.prefix, names[k]);
         rc = eom_gnuplot_run(p.dir, script, err, errlen);

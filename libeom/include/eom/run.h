@@ -290,6 +290,18 @@ EOM_API void eom_run_judge(const eom_opts *o, const eom_stats *st,
 EOM_API int eom_run_plots(const char *label, const eom_system *s,
                           const char *csv_path, char *err, size_t errlen);
 
+/* The animation page of a run of s whose CSV is at csv_path, when s has
+ * drawings (eom/drawing.h; without, nothing is written and 0 comes
+ * back): PREFIX-animation.html beside the CSV, one file that needs no
+ * network, playing the run with the drawings and a plot of T, V and E
+ * (docs/run.md, "The animation page"). Frames are the CSV's rows, thinned
+ * to at most 2000 frames and 300000 drawn values (every k-th row and the
+ * last). The file is replaced atomically as the CSV is. eom_run_plots
+ * writes it too. */
+EOM_API int eom_run_animation(const char *label, const eom_system *s,
+                              const char *csv_path, char *err,
+                              size_t errlen);
+
 /* Where the plots of a CSV go: for csv_path DIR/NAME.csv the files are
  * DIR/NAME-SUFFIX; a script names the CSV within DIR, as gnuplot runs
  * there. */
