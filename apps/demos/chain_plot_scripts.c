@@ -147,7 +147,11 @@ static void tail(FILE *f)
 
 /* Kinetic energy per link: one panel per link (at most
  * CHAIN_PLOT_MAX_PANELS), rigid part solid on the left axis, flexible
- * part dashed on the right axis (it is often a hundred times smaller). */
+ * part dashed on the right axis (it is often a hundred times smaller).
+ * The flexible part is the link's T less the rigid part, so it holds the
+ * terms that couple the deflection with the chord's motion, which take
+ * either sign: it can be negative (-3.6 J on the closed chain, whose
+ * links' T stay positive), and the title says so. */
 static void energy(FILE *f, const plot_job *j)
 {
     const int links = j->c->links;
@@ -158,11 +162,15 @@ static void energy(FILE *f, const plot_job *j)
     for (l = 0; l < links; l++)
         flexible |= j->c->modes[l] > 0;
     head(f, j, "energy", "kinetic energy per link, rigid and flexible "
-         "parts", cols == 2 ? 1100 : 800, 280 * rows + 70);
+         "parts", cols == 2 ? 1100 : 800,
+         280 * rows + (flexible ? 90 : 70));
     fputs("set multiplot layout ", f);
     fprintf(f, "%d,%d title csv.': kinetic energy per link'.\"\\n\".'%s",
             rows, cols, flexible ? "solid: rigid part (the chord as a rigid "
-            "rod), left axis; dashed: flexible part, right axis"
+            "rod), left axis; dashed: flexible part, right axis'.\"\\n\"."
+            "'(the flexible part is T less the rigid part: it holds the "
+            "coupling of deflection and chord motion, so it can be "
+            "negative)"
                                : "rigid links: all of it is the rigid part");
     if (np < links)
         fprintf(f, "'.\"\\n\".'links 1 to %d of %d shown: the CSV has "
