@@ -5,6 +5,8 @@
  * that reads the time -dL/dt and the power of moving constraints: see
  * rhs.c), and the probes. */
 #include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "eom_internal.h"
@@ -56,6 +58,44 @@ int eom_energy_at(eom_system *s, double t, const double *x, eom_energy *e)
     return EOM_OK;
 }
 
+int eom__probe_multipliers(eom_system *s)
+{
+    char name[32];
+    int j, any = 0;
+    free(s->lam_param);
+    s->lam_param = NULL;
+    if (!s->tE.tape || s->m == 0)
+        return EOM_OK;
+    s->lam_param = malloc((size_t)s->m * sizeof *s->lam_param);
+    if (!s->lam_param)
+        return eom__fail(s, EOM_ERR_NOMEM, "out of memory");
+    for (j = 0; j < s->m; j++) {
+        snprintf(name, sizeof name, EOM_LAMBDA_FMT, j);
+        s->lam_param[j] = tp_tape_param_index(s->tE.tape, name);
+        any |= s->lam_param[j] >= 0;
+    }
+    if (!any) {
+        free(s->lam_param);
+        s->lam_param = NULL;
+    }
+    return EOM_OK;
+}
+
+/* The multipliers the probes read, into the E tape's parameters: the
+ * equations of motion solved at (s->time, x). */
+static int probe_multipliers_at(eom_system *s, const double *x)
+{
+    int j, rc;
+    if (!s->lam_param)
+        return EOM_OK;
+    if ((rc = eom__evaluate(s, s->time, x)) != EOM_OK)
+        return rc;
+    for (j = 0; j < s->m; j++)
+        if (s->lam_param[j] >= 0)
+            tp_ws_set_param(s->tE.ws, s->lam_param[j], s->lam[j]);
+    return EOM_OK;
+}
+
 int eom_probes_at(eom_system *s, const double *x, double *p)
 {
     int st, rc;
@@ -68,6 +108,8 @@ int eom_probes_at(eom_system *s, const double *x, double *p)
         return eom__fail(s, EOM_ERR_NULL, "eom_probes_at: NULL argument");
     if (!eom__finite(x, 2 * (size_t)s->n))
         return eom__fail(s, EOM_ERR_NONFINITE, "the state is not finite");
+    if ((rc = probe_multipliers_at(s, x)) != EOM_OK)
+        return rc;
     st = tp_eval(s->tE.ws, eom__tape_input(&s->tE, x, s->time), s->wE);
     if ((rc = eom__tape_status(s, st, "a probe")))
         return rc;

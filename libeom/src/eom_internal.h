@@ -52,6 +52,9 @@
  * while it is first recorded, on the L and phi tapes): not a C
  * identifier, so no model parameter can take its name. */
 #define EOM_TIME_NAME "(time)"
+/* The E tape's parameter of constraint row j's multiplier: "(lambda j)"
+ * (not an identifier, so no model parameter can take it). */
+#define EOM_LAMBDA_FMT "(lambda %d)"
 
 /* ---- model ------------------------------------------------------------ */
 
@@ -156,6 +159,9 @@ struct eom_ctx {
     eom_time_as time_as;
     int time_index;   /* the time's independent (EOM_TIME_INDEP) */
     bool read_time;   /* eom_time was called */
+    bool in_probe;    /* recording a probe: eom_multiplier is allowed */
+    int nrows;        /* the model's constraint rows (holonomic and
+                         velocity), for eom_multiplier's range */
     int status;       /* first error of this recording */
     char msg[EOM_MSG_LEN];
     unsigned lang_run; /* 0 when the recording starts; the model-file
@@ -257,6 +263,9 @@ struct eom_system {
     double *Y;     /* n x m  M^-1 C^T */
     double *S;     /* m x m  C M^-1 C^T */
     double *lam;   /* m */
+    int *lam_param; /* [m] the E tape's parameter of each multiplier a
+                       probe reads (eom_multiplier), or -1; NULL when no
+                       probe reads one */
     double *wn, *wm; /* scratch n and m */
     double *wE;      /* scratch for energy tape outputs */
     double power;  /* dE/dt at the last evaluation: qd . Qv, and for a
@@ -476,6 +485,9 @@ bool eom__valid_name(const char *s);
 int eom__constraint_names(eom_system *s, const eom_model *m);
 void eom__constraint_names_free(eom_shared *sh, int m);
 void eom__free_names(char **names, int count);
+/* energy.c: s->lam_param from the E tape (after it is recorded or
+ * cloned). */
+int eom__probe_multipliers(eom_system *s);
 /* rheonomic.c: EOM_ERR_MODEL with a message naming what when the
  * Lagrangian, the dissipation or the constraints read the time. */
 int eom__refuse_time(eom_system *s, const char *what);

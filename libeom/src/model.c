@@ -533,6 +533,22 @@ tp_val eom_time(eom_ctx *c)
     }
 }
 
+tp_val eom_multiplier(eom_ctx *c, int j)
+{
+    char name[32];
+    if (!c)
+        return ctx_bad(c, "eom_multiplier: NULL context");
+    if (!c->in_probe)
+        return ctx_bad(c, "eom_multiplier: a multiplier may be read by a "
+                          "probe only (the energies, forces and constraints "
+                          "determine it)");
+    if (j < 0 || j >= c->nrows)
+        return ctx_bad(c, "eom_multiplier: constraint row %d outside 0 .. "
+                       "%d", j, c->nrows - 1);
+    snprintf(name, sizeof name, EOM_LAMBDA_FMT, j);
+    return tp_param(c->r, name, 0.0);
+}
+
 /* Parameter k's handle in this recording, declared at its first use. */
 static tp_val param_handle(eom_ctx *c, int k)
 {

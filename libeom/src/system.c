@@ -128,9 +128,13 @@ static int body_E(eom_ctx *c)
     }
     for (k = 0; k < m->n_probes; k++) {
         eom_callback cb;
+        int rc;
         cb.fn.scalar = m->probes[k].fn;
         cb.user = m->probes[k].user;
-        if (call_scalar(c, &cb, m->probes[k].name, &v))
+        c->in_probe = true;
+        rc = call_scalar(c, &cb, m->probes[k].name, &v);
+        c->in_probe = false;
+        if (rc)
             return 1;
         snprintf(name, sizeof name, "probe%d", k);
         if (tp_output(c->r, name, v) < 0)
@@ -286,6 +290,7 @@ static int record_once(eom_system *s, const eom_model *m, eom_tape *et,
         group[k] = (unsigned char)(k < n ? 0 : k < base ? 1 : 2);
     memset(&c, 0, sizeof c);
     c.m = m;
+    c.nrows = s->m;
     c.role = role;
     c.n = n;
     c.time_as = time_as;
@@ -464,6 +469,7 @@ void eom_system_free(eom_system **sp)
     free(s->Y);
     free(s->S);
     free(s->lam);
+    free(s->lam_param);
     free(s->wn);
     free(s->wm);
     free(s->wE);
@@ -660,8 +666,9 @@ int eom_system_new(eom_system **out, const eom_model *m, char *errmsg,
                      s->n, true)) != EOM_OK)
         goto fail;
     if ((s->has_tv || s->nprobe > 0) &&
-        (rc = record(s, m, &s->tE, EOM_ROLE_STATE, body_E, "energies", 1,
-                     false)) != EOM_OK)
+        ((rc = record(s, m, &s->tE, EOM_ROLE_STATE, body_E, "energies", 1,
+                      false)) != EOM_OK ||
+         (rc = eom__probe_multipliers(s)) != EOM_OK))
         goto fail;
     if (s->has_R && (rc = record(s, m, &s->tR, EOM_ROLE_STATE, body_R,
                                  "dissipation", 1, false)) != EOM_OK)
@@ -794,6 +801,8 @@ int eom_system_clone(eom_system **out, const eom_system *s, char *errmsg,
         goto fail;
     }
     memcpy(c->tRes.pmap, s->tRes.pmap, (size_t)c->np * sizeof(int));
+    if ((rc = eom__probe_multipliers(c)) != EOM_OK)
+        goto fail;
     if (c->m > 0 && (rc = setup_klu(c)) != EOM_OK)
         goto fail;
     if (s->compiled &&

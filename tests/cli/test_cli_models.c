@@ -812,7 +812,8 @@ static void case_plots(void)
 /* --columns: the accelerations and multipliers of a pendulum in Cartesian
  * coordinates, x^2 + y^2 = l^2, against the closed form from the row's
  * own state: m x'' = 2 lambda x, m y'' = -m g + 2 lambda y with
- * lambda = m (g y - v^2) / (2 l^2); condition estimates in (0, 1]. */
+ * lambda = m (g y - v^2) / (2 l^2), and the rod's pull -2 lambda l read
+ * by a probe (lambda_rod); condition estimates in (0, 1]. */
 static void case_columns(void)
 {
     char file[300], out[300], msg[256], *text;
@@ -834,7 +835,8 @@ static void case_columns(void)
           "coord x = 1.5*sin(0.7) [m] rate 0.3*cos(0.7)\n"
           "coord y = -1.5*cos(0.7) [m] rate 0.3*sin(0.7)\n"
           "T = 1/2*m*(x_dot^2 + y_dot^2)\nV = m*g*y\n"
-          "constraint rod = x^2 + y^2 - l^2\n", f);
+          "constraint rod = x^2 + y^2 - l^2\n"
+          "probe tension = -2*lambda_rod*l [N]\n", f);
     fclose(f);
     run(&r, args);
     CHECK_INT(r.status, 0);
@@ -866,6 +868,8 @@ static void case_columns(void)
         const double rM = at(&c, i, csv_col(&c, "rcond_M"));
         const double rS = at(&c, i, csv_col(&c, "rcond_S"));
         CHECK_NEAR(at(&c, i, csv_col(&c, "lambda_rod")), lam, 1e-9);
+        /* the rod's pull read by a probe through lambda_rod */
+        CHECK_NEAR(at(&c, i, csv_col(&c, "tension")), -2 * lam * l, 1e-9);
         CHECK_NEAR(at(&c, i, csv_col(&c, "x_ddot")), 2 * lam * x / m, 1e-9);
         CHECK_NEAR(at(&c, i, csv_col(&c, "y_ddot")), -g + 2 * lam * y / m,
                    1e-9);
@@ -911,15 +915,20 @@ static void case_constraint_names(void)
           "param h = 0.5 [m]\n"
           "coord x = 1 [m]\ncoord y = 2 [m]\ncoord z = 0.5 [m]\n"
           "coord u = 1 [m]\ncoord w = 0 [m] rate 1\n"
+          "param g = 9.81 [m/s^2]\nparam vel = 1 [m/s]\n"
           "T = mass/2*(x_dot^2 + y_dot^2 + z_dot^2 + u_dot^2 + w_dot^2)\n"
+          "V = mass*g*(2*x + 3*y + 7*z + 4*u + 5*w)\n"
+          "velocity constraint roll = w_dot - vel\n"
           "constraint pin[i in 1..2] = if(i == 1, x - a, y - b)\n"
-          "constraint at = vec(z - h, u - x, u - a)\n", f);
+          "constraint at = vec(z - h, u - x, u - a)\n"
+          "probe Lroll = lambda_roll [N]\nprobe Lpin[i in 1..2] = "
+          "lambda_pin[i] [N]\nprobe Lz = lambda_at_z [N]\n", f);
     fclose(f);
     run(&r, args);
     CHECK_INT(r.status, 0);
     /* one of pin1, at_y, at_z as a combination of the other two (which
      * one is the pivoting's choice); pin2 and at_x take no part */
-    CHECK_HAS(r.err, "rank 4 of 5 rows");
+    CHECK_HAS(r.err, "rank 5 of 6 rows");
     CHECK_HAS(r.err, "'at_z'");
     CHECK_HAS(r.err, "'at_y'");
     CHECK_HAS(r.err, "'pin1'");
@@ -932,6 +941,28 @@ static void case_constraint_names(void)
             if (csv_col(&c, cols[k]) < 0)
                 CHECK_FAIL_("no column %s", cols[k]);
         CHECK(csv_col(&c, "phi1") < 0);
+        /* the velocity row after every holonomic one, though written
+         * first */
+        CHECK(csv_col(&c, "phi_roll") == csv_col(&c, "phi_at_z") + 1);
+        /* probes read the multipliers of the rows they name: the same
+         * numbers as the lambda columns, which are the library's; at
+         * rest C^T lambda = dV/dq, so the rows that alone hold a
+         * coordinate carry its force: the roll 5 m g (w), pin2 3 m g
+         * (y), at_x 7 m g (z) */
+        for (k = 0; k < (size_t)c.nrows; k++) {
+            CHECK_NEAR(at(&c, (int)k, csv_col(&c, "Lroll")),
+                       at(&c, (int)k, csv_col(&c, "lambda_roll")), 1e-12);
+            CHECK_NEAR(at(&c, (int)k, csv_col(&c, "Lroll")), 5 * 9.81,
+                       1e-9);
+            CHECK_NEAR(at(&c, (int)k, csv_col(&c, "Lpin2")),
+                       at(&c, (int)k, csv_col(&c, "lambda_pin2")), 1e-12);
+            CHECK_NEAR(at(&c, (int)k, csv_col(&c, "Lz")),
+                       at(&c, (int)k, csv_col(&c, "lambda_at_z")), 1e-12);
+            CHECK_NEAR(at(&c, (int)k, csv_col(&c, "Lpin2")), 3 * 9.81,
+                       1e-9);
+            CHECK_NEAR(at(&c, (int)k, csv_col(&c, "lambda_at_x")), 7 * 9.81,
+                       1e-9);
+        }
         free(c.v);
     } else {
         CHECK_FAIL_("%s", text ? msg : "no CSV");
@@ -951,8 +982,9 @@ static void case_constraint_names(void)
     snprintf(file, sizeof file, "%s/named.eom", dir);
     run(&r, describe);
     CHECK_INT(r.status, 0);
-    CHECK_HAS(r.out, "constraints: 5; CSV columns phi_pin1, phi_pin2, "
-                     "phi_at_x, phi_at_y, phi_at_z");
+    CHECK_HAS(r.out, "constraints: 6 (1 of them on the rates); CSV "
+                     "columns phi_pin1, phi_pin2, phi_at_x, phi_at_y, "
+                     "phi_at_z, phi_roll (rates)");
     result_free(&r);
 }
 

@@ -13,7 +13,10 @@
  * (linear, so C is constant): rank 3 of 4, c the dependent row, its
  * combination 1 a + 3 b in the sentence; a pendulum's rod and 2 rod
  * (rank 1 of 2, "'rod2' = 2 'rod'"); full rank gives no dependent row
- * and an empty sentence; unnamed rows are "row K". */
+ * and an empty sentence; unnamed rows are "row K".
+ *
+ * eom_multiplier: refused outside a probe and out of range; in a probe,
+ * the multiplier of a row holding z against V = 3 z at rest is 3. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -217,8 +220,68 @@ static void redundant(void)
     eom_system_free(&s);
 }
 
+/* eom_multiplier outside a probe, and out of range in one */
+static int T_lambda(eom_ctx *c, void *user, tp_val *out)
+{
+    (void)user;
+    *out = tp_add(eom_rec(c), eom_multiplier(c, 0),
+                  tp_mulc(eom_rec(c), tp_sqr(eom_rec(c), eom_qd(c, 0)), 0.5));
+    return 0;
+}
+
+/* V = 3 z: at rest on d = z, C^T lambda = dV/dq gives lambda = 3 */
+static int V3(eom_ctx *c, void *user, tp_val *out)
+{
+    (void)user;
+    *out = tp_mulc(eom_rec(c), eom_q(c, 2), 3.0);
+    return 0;
+}
+
+static int probe_row(eom_ctx *c, void *user, tp_val *out)
+{
+    *out = eom_multiplier(c, *(const int *)user);
+    return 0;
+}
+
+static void multiplier_refusals(void)
+{
+    static int row0 = 0, row4 = 4;
+    const double x[6] = {1.0, 2.0, 0.0, 0.0, 0.0, 0.0};
+    eom_model *m = NULL;
+    eom_system *s = NULL;
+    char err[256];
+    double p[1] = {NAN};
+    CHECK_INT(eom_model_new(&m), EOM_OK);
+    eom_model_add_coord(m, "x", "m", 1.0, 0.0);
+    eom_model_set_kinetic(m, T_lambda, NULL);
+    eom_model_add_constraints(m, 1, block_d, NULL);
+    CHECK(eom_system_new(&s, m, err, sizeof err) != EOM_OK);
+    CHECK(strstr(err, "a multiplier may be read by a probe only") != NULL);
+    eom_model_free(&m);
+    m = three();
+    eom_model_add_constraints(m, 1, block_d, NULL);
+    eom_model_add_probe(m, "p", "N", probe_row, (void *)&row4);
+    CHECK(eom_system_new(&s, m, err, sizeof err) != EOM_OK);
+    CHECK(strstr(err, "constraint row 4 outside 0 .. 0") != NULL);
+    eom_model_free(&m);
+    /* in range: the probe is the multiplier, here 3 (the pull of V on
+     * z held by d) */
+    m = three();
+    eom_model_set_potential(m, V3, NULL);
+    eom_model_add_constraints(m, 1, block_d, NULL);
+    eom_model_add_probe(m, "p", "N", probe_row, (void *)&row0);
+    CHECK_INT(eom_system_new(&s, m, err, sizeof err), EOM_OK);
+    eom_model_free(&m);
+    if (s) {
+        CHECK_INT(eom_probes_at(s, x, p), EOM_OK);
+        CHECK_NEAR(p[0], 3.0, 1e-14);
+    }
+    eom_system_free(&s);
+}
+
 int main(void)
 {
+    multiplier_refusals();
     names();
     refusals();
     redundant();

@@ -185,6 +185,24 @@ static const err_case cases[] = {
      HEAD "coord y = 0 [m]\nT = 1/2*m*x_dot^2\n"
      "velocity constraint c = x - y\n", 5, 21,
      "the velocity constraint c reads no rates", "`constraint NAME = ...`"},
+    {"a multiplier in an energy",
+     HEAD "constraint c = x\nT = 1/2*m*x_dot^2 + lambda_c*x\n", 4, 21,
+     "the multiplier lambda_c can be read by a probe only, not by the "
+     "kinetic energy", "a probe may report it"},
+    {"a vector constraint's multiplier without its component",
+     HEAD "T = 1/2*m*x_dot^2\nconstraint at = vec(x, x, x)\n"
+     "probe p = lambda_at\n", 5, 11,
+     "the constraint at has a row per component: write lambda_at_x", NULL},
+    {"a scalar constraint's multiplier with a component",
+     HEAD "T = 1/2*m*x_dot^2\nconstraint c = x\nprobe p = lambda_c_y\n",
+     5, 11, "the constraint c is a scalar: write lambda_c", NULL},
+    {"der() of a multiplier",
+     HEAD "T = 1/2*m*x_dot^2\nconstraint c = x\n"
+     "probe p = der(lambda_c) [N/s]\n", 5, 15,
+     "der() of an expression that holds the multiplier lambda_c", NULL},
+    {"a multiplier in the wrong unit",
+     HEAD "T = 1/2*m*x_dot^2\nconstraint c = x\nprobe p = lambda_c [J]\n",
+     5, 7, "kg m s^-2", NULL},
     {"a matrix constraint",
      HEAD "T = 1/2*m*x_dot^2\nconstraint c = diag(x, x, x)\n", 4, 12,
      "the constraint c is a matrix", NULL},

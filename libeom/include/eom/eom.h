@@ -206,6 +206,13 @@ EOM_API int eom_ncoords(const eom_ctx *c);
 EOM_API tp_val eom_q(eom_ctx *c, int i);
 EOM_API tp_val eom_qd(eom_ctx *c, int i);
 EOM_API tp_val eom_time(eom_ctx *c);
+/* In a probe's callback only: the multiplier of constraint row j
+ * (holonomic rows, then velocity rows, from 0) at the state the probe is
+ * evaluated at (so that a probe can report a constraint force: a motor's
+ * torque, a wheel's contact force). eom_probes_at then solves the
+ * equations of motion at that state first. Anywhere else, or j out of
+ * range, recording fails with a message. */
+EOM_API tp_val eom_multiplier(eom_ctx *c, int j);
 EOM_API tp_val eom_param(eom_ctx *c, const char *name);
 /* The parameter of index k, as eom_model_add_param returned it: the same
  * value as eom_param by name, without the name's lookup, for callbacks

@@ -628,8 +628,13 @@ static int check_body(tp_rec *r, void *user)
             if (kind == ST_R || (in->quat_check && kind >= 0 &&
                                  kind != ST_FORCE))
                 rc = cb_energy(a->c, cb, &one);
-            else if (sk == S_PROBE)
+            else if (sk == S_PROBE) {
+                /* a multiplier a probe reads is 0 here: what is checked
+                 * is the probe's domain at the start, not its value */
+                a->c->in_probe = true;
                 rc = cb_probe(a->c, cb, &one);
+                a->c->in_probe = false;
+            }
             break;
         case EOM_ROLE_FORCE:
             if (cb->stmt < 0 && cb->sym < 0 && !cb->initial) {
@@ -698,6 +703,7 @@ static int run_others(lang_inst *in, const eom_model *m, const double *x)
         c.m = m;
         c.n = n;
         c.role = (eom_role)roles[k];
+        c.nrows = m->n_con + m->n_vcon;
         c.time_as = EOM_TIME_INDEP;
         c.time_index = 2 * n;
         a.c = &c;

@@ -253,6 +253,51 @@ static int coord_ref(lang_inst *in, const node *nd, lval *out)
     return 0;
 }
 
+/* lambda_NAME: the multiplier of a row of constraint NAME, read by a
+ * probe. The rows are stacked as the builder adds them (build.c): every
+ * holonomic constraint in the file's order, then every velocity one;
+ * each member by member, a vector's components x, y, z in turn. */
+static int multiplier_ref(lang_inst *in, const node *nd, lval *out)
+{
+    const lang_prog *p = in->p;
+    const sym *y = &p->syms[nd->sym];
+    const int nc = y->shape > SH_SCALAR ? y->shape : 1;
+    long idx[LANG_MAX_IDX];
+    int k, flat, row = 0;
+    if (!in->r || !in->ctx->in_probe) {
+        lang_fail(in, nd->tok,
+                  "a multiplier is a result of the equations of motion: "
+                  "a probe may report it, the model cannot be built on it",
+                  "the multiplier lambda_%s can be read by a probe only, "
+                  "not by %s", y->name, in->what);
+        return -1;
+    }
+    if (nc > 1 && nd->op == 0) {
+        lang_fail(in, nd->tok, NULL, "the constraint %s has a row per "
+                  "component: write lambda_%s_x, lambda_%s_y or lambda_%s_z",
+                  y->name, y->name, y->name, y->name);
+        return -1;
+    }
+    if (nc == 1 && nd->op != 0) {
+        lang_fail(in, nd->tok, NULL, "the constraint %s is a scalar: write "
+                  "lambda_%s", y->name, y->name);
+        return -1;
+    }
+    for (k = 0; k < p->nsyms; k++) {
+        const sym *z = &p->syms[k];
+        const int before = z->velocity == y->velocity ? k < nd->sym
+                                                      : !z->velocity;
+        if (z->kind == S_CONSTRAINT && before)
+            row += in->fam[k].size * (z->shape > SH_SCALAR ? z->shape : 1);
+    }
+    if (indices(in, nd, idx) < 0 ||
+        (flat = lang_family_index(in, nd->sym, idx, nd->tok)) < 0)
+        return -1;
+    row += flat * nc + (nc > 1 ? nd->op - 1 : 0);
+    *out = tape(eom_multiplier(in->ctx, row));
+    return 0;
+}
+
 /* The clause of definition s that defines index idx, binding its
  * variables (saved in saved[]); -1 if none (message set), -2 if two. */
 static int find_clause(lang_inst *in, int s, const long *idx, int tok,
@@ -533,6 +578,7 @@ static int name_ref(lang_inst *in, const node *nd, lval *out)
     case R_COORD:
     case R_RATE: return coord_ref(in, nd, out);
     case R_DEF: return lang_def_ref(in, nd, out, NULL, 0);
+    case R_MULT: return multiplier_ref(in, nd, out);
     default:
         lang_fail(in, nd->tok, NULL, "internal error: an unresolved name");
         return -1;
@@ -546,6 +592,12 @@ int lang_name_d(lang_inst *in, const node *nd, ldual *out, int want_d)
 {
     memset(&out->d, 0, sizeof out->d);
     out->d.k = 1;
+    if (want_d && nd->ref == R_MULT) {
+        lang_fail(in, nd->tok, NULL, "der() of an expression that holds "
+                  "the multiplier lambda_%s (it has no derivative here)",
+                  in->p->syms[nd->sym].name);
+        return -1;
+    }
     if (want_d && nd->ref == R_RATE) {
         lang_fail(in, nd->tok,
                   "der() differentiates positions and angles; the rates "

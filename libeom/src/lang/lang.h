@@ -100,7 +100,10 @@ typedef enum ref_kind {
     R_DEF,
     R_IVAR, /* an index variable */
     R_PI,
-    R_TIME
+    R_TIME,
+    R_MULT /* lambda_NAME: constraint NAME's multiplier (probes only);
+              node op = 1 + the component of a vector constraint
+              (lambda_NAME_x), else 0 */
 } ref_kind;
 
 typedef struct node {

@@ -350,6 +350,34 @@ static int index_count(resolver *rs, const node *nd, const char *name,
     return -1;
 }
 
+/* lambda_NAME, lambda_NAME_x ..: the multiplier of constraint NAME (of
+ * its component x, y or z). 1 when name is one (nd resolved), 0 when it
+ * is not, -1 on an error (reported). */
+static int multiplier_ref(resolver *rs, node *nd, const char *name)
+{
+    lang_prog *p = rs->p;
+    char base[LANG_MAX_NAME + 1];
+    size_t len;
+    int k, comp = 0;
+    if (strncmp(name, "lambda_", 7) != 0 || !name[7])
+        return 0;
+    snprintf(base, sizeof base, "%s", name + 7);
+    k = names_find(&rs->outputs, p, base);
+    len = strlen(base);
+    if ((k < 0 || p->syms[k].kind != S_CONSTRAINT) && len > 2 &&
+        base[len - 2] == '_' && base[len - 1] >= 'x' && base[len - 1] <= 'z') {
+        comp = 1 + (base[len - 1] - 'x');
+        base[len - 2] = '\0';
+        k = names_find(&rs->outputs, p, base);
+    }
+    if (k < 0 || p->syms[k].kind != S_CONSTRAINT)
+        return 0;
+    nd->ref = R_MULT;
+    nd->sym = k;
+    nd->op = (uint8_t)comp;
+    return index_count(rs, nd, name, p->syms[k].nidx) < 0 ? -1 : 1;
+}
+
 static int name_ref(resolver *rs, int n)
 {
     lang_prog *p = rs->p;
@@ -398,6 +426,8 @@ static int name_ref(resolver *rs, int n)
             return -1;
         }
     }
+    if ((k = multiplier_ref(rs, nd, name)) != 0)
+        return k > 0 ? 0 : -1;
     if (names_find(&rs->outputs, p, name) >= 0) {
         lang_diag(p, nd->tok, rs->err, rs->len,
                   "give the value a name with a definition (NAME = ...) "

@@ -380,6 +380,30 @@ static int spatial_dim(checker *ck, int n, dim *out)
     }
 }
 
+/* The multiplier of constraint k: C^T lambda is a generalized force
+ * (J per unit of q), C = dphi/dq, so lambda is in J per unit of phi; a
+ * velocity constraint's C = dpsi/dqd (per unit of q/s), so J per unit
+ * of psi per s (a rolling constraint in m/s: N). */
+static int mult_dim(checker *ck, int k, dim *out)
+{
+    const sym *y = &ck->p->syms[k];
+    dim d;
+    int i;
+    if (dim_of(ck, y->value, &d) < 0)
+        return -1;
+    if (d.any)
+        d = no_dim();
+    *out = no_dim();
+    out->e[0] = 2;  /* kg */
+    out->e[1] = 4;  /* m^2 */
+    out->e[2] = -4; /* s^-2 */
+    for (i = 0; i < DIM_N; i++)
+        out->e[i] = (int8_t)(out->e[i] - d.e[i]);
+    if (y->velocity)
+        out->e[2] = (int8_t)(out->e[2] - 2);
+    return 0;
+}
+
 static int dim_of(checker *ck, int n, dim *out)
 {
     lang_prog *p = ck->p;
@@ -406,6 +430,7 @@ static int dim_of(checker *ck, int n, dim *out)
             break;
         case R_TIME: *out = no_dim(); out->e[2] = 2; break;
         case R_DEF: rc = def_dim(ck, nd->sym, out); break;
+        case R_MULT: rc = mult_dim(ck, nd->sym, out); break;
         default: *out = any_dim(); break;
         }
         break;
