@@ -39,7 +39,10 @@ static int remove_tree(const char *dir, int depth)
     while (d && (e = readdir(d)) != NULL) {
         if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0)
             continue;
-        snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+        /* a name too long for path is left, and dir's rmdir says so */
+        if ((size_t)snprintf(path, sizeof path, "%s/%s", dir, e->d_name) >=
+            sizeof path)
+            continue;
         if (unlink(path) != 0 && depth > 0)
             remove_tree(path, depth - 1);
     }
