@@ -1,6 +1,7 @@
-/* pyeom_record.h - the recording types of the extension: Context (what a
- * model callback receives while it records) and Var (a recorded value),
- * shared by record.c (Model, Context) and var.c (Var, math functions). */
+/* pyeom_record.h - the recording types of the extension: Model (the
+ * model being recorded), Context (what a model callback receives while
+ * it records) and Var (a recorded value), shared by record.c (Model),
+ * context.c (Context) and var.c (Var, math functions). */
 #ifndef PYEOM_RECORD_H
 #define PYEOM_RECORD_H
 
@@ -21,6 +22,20 @@ typedef struct pyeom_var {
     int coord;          /* the coordinate's index when this is q_i (it
                            then has .dot), else -1 */
 } pyeom_var;
+
+/* One registered callback: the function, and the number of values a
+ * vector callback returns (-1: scalar, 0: n, -2: 2n). */
+typedef struct cb {
+    PyObject *fn;
+    int count;
+} cb;
+
+typedef struct pyeom_model {
+    PyObject_HEAD
+    eom_model *m;
+    cb **cbs;     /* every callback registered (owned) */
+    int ncbs;
+} pyeom_model;
 
 /* A new Var of ctx holding v (coord as above). */
 PyObject *pyeom_var_new(pyeom_context *ctx, tp_val v, int coord);
