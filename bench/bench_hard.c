@@ -11,7 +11,10 @@
  *   long      a 50-link chain, and the paper's closed chain for 1000 s;
  *   stiff-target  issue 10's stiff case, every method's work against
  *             precision on the closed chain with EI x 100 and two modes
- *             per link, undamped and with 2% modal damping (hard_stiff.c).
+ *             per link, undamped and with 2% modal damping (hard_stiff.c);
+ *   a02       the IFToMM benchmark A02, 40 four-bar loops through 20 flat
+ *             singular positions, in natural coordinates and in angles,
+ *             every method against the exact motion (hard_a02.c).
  * Stiff runs use two tolerance pairs: one that resolves the vibration
  * of the beams, one loose enough for an implicit method to step over it.
  * Energy: max |E + W - E0| relative to max(|E0|, T0 + |V0|); residual:
@@ -24,6 +27,7 @@
 #include <string.h>
 
 #include "bench_chain.h"
+#include "hard_a02.h"
 #include "hard_stiff.h"
 
 static const double pi = 3.14159265358979323846;
@@ -240,31 +244,31 @@ static void long_runs(int quick)
 
 /* The sections, in the order they run: the first three share one
  * table, the stiff target prints its own. */
-static const char *const sections[4] = {"stiff", "singular", "long",
-                                        "stiff-target"};
+static const char *const sections[5] = {"stiff", "singular", "long",
+                                        "stiff-target", "a02"};
 
 static int usage(void)
 {
     fprintf(stderr, "usage: bench-hard [--quick] [stiff] [singular] [long] "
-            "[stiff-target]\n  (no section: all four)\n");
+            "[stiff-target] [a02]\n  (no section: all five)\n");
     return 2;
 }
 
 int main(int argc, char **argv)
 {
-    int quick = 0, chosen[4] = {0, 0, 0, 0}, any = 0, i, k, rc = 0;
+    int quick = 0, chosen[5] = {0, 0, 0, 0, 0}, any = 0, i, k, rc = 0;
     for (i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--quick") == 0) {
             quick = 1;
             continue;
         }
-        for (k = 0; k < 4 && strcmp(argv[i], sections[k]) != 0; k++)
+        for (k = 0; k < 5 && strcmp(argv[i], sections[k]) != 0; k++)
             ;
-        if (k == 4)
+        if (k == 5)
             return usage();
         chosen[k] = any = 1;
     }
-    for (k = 0; !any && k < 4; k++)
+    for (k = 0; !any && k < 5; k++)
         chosen[k] = 1;
     if (chosen[0] || chosen[1] || chosen[2])
         printf("| case | method, rtol, atol | status | t reached | steps | "
@@ -281,6 +285,11 @@ int main(int argc, char **argv)
         if (chosen[0] || chosen[1] || chosen[2])
             printf("\n");
         rc = hard_stiff_target(quick);
+    }
+    if (chosen[4]) {
+        if (chosen[0] || chosen[1] || chosen[2] || chosen[3])
+            printf("\n");
+        rc |= hard_a02(A02_MODELS_DIR, quick);
     }
     return rc;
 }

@@ -512,7 +512,7 @@ void eom__forget(eom_system *s);
  * the factor of M from the last evaluation when there is one
  * (constraints.c). */
 int eom__project_step(eom_system *s, double t, double *x, double tol,
-                      int *iters);
+                      double qtol, int *iters);
 /* Solve Mf Mf^T X = B in place, B n x nrhs column-major (a column is n
  * contiguous values). */
 int eom__mass_solve(eom_system *s, double *B, int nrhs);

@@ -251,6 +251,23 @@ int eom__integ_branch(eom_integ *it, double t, const double *y)
     return rc;
 }
 
+/* The position error a step is allowed: what the error test accepts for
+ * the largest coordinate of y (the per-step tolerances the method is
+ * given), or rk4's atol (it has no error test). The projection may stop
+ * once the residual is what such an error leaves and its iteration has
+ * stalled (constraints.c, EOM_PROJ_STALL). */
+double eom__integ_proj_qtol(const eom_integ *it, const double *y)
+{
+    double qmax = 0.0;
+    int i;
+    if (it->o.method == EOM_RK4)
+        return it->o.atol;
+    for (i = 0; i < it->n; i++)
+        qmax = fmax(qmax, fabs(y[i]));
+    return eom__integ_step_tol(it, it->o.rtol) * qmax +
+           eom__integ_step_tol(it, it->o.atol);
+}
+
 int eom__integ_project(eom_integ *it, double *y)
 {
     eom_system *s = it->s;
@@ -258,7 +275,8 @@ int eom__integ_project(eom_integ *it, double *y)
     if (s->m == 0)
         return EOM_OK;
     if (it->o.project) {
-        rc = eom__project_step(s, it->t, y, it->o.proj_tol, &iters);
+        rc = eom__project_step(s, it->t, y, it->o.proj_tol,
+                               eom__integ_proj_qtol(it, y), &iters);
         if (rc != EOM_OK) {
             snprintf(it->msg, sizeof it->msg, "at t = %.17g: %s", it->t,
                      s->msg);

@@ -144,6 +144,7 @@ int eom__integ_branch(eom_integ *it, double t, const double *y);
 /* After an accepted step: project y onto the constraints when the system
  * has them and projection is on, and track the largest residual. */
 int eom__integ_project(eom_integ *it, double *y);
+double eom__integ_proj_qtol(const eom_integ *it, const double *y);
 
 /* A failure with a message (the arguments may quote it->msg); marks the
  * integrator failed. */

@@ -373,9 +373,12 @@ static void run(enum form form, eom_method method, int nt)
                st.singular_passes, st.branch_switches);
         if (form == RELATIVE) {
             /* here a step of erk's can carry it across the narrower
-             * neighbourhood where C loses rank: 37 of 39 seen */
+             * neighbourhood where C loses rank: 37 of 39 seen, 35 since
+             * the projection stops once stalled within the step's error
+             * (constraints.c; its error against the pendulum is the same,
+             * 1.9e-8) */
             CHECK(st.singular_passes <= flat_passes(th_ref, nt) &&
-                  st.singular_passes >= flat_passes(th_ref, nt) - 3);
+                  st.singular_passes >= flat_passes(th_ref, nt) - 5);
         } else {
             CHECK_INT(st.singular_passes, flat_passes(th_ref, nt));
         }
