@@ -8,7 +8,8 @@
  *
  * each as .png and .svg, made by gnuplot from a script PREFIX-NAME.gp
  * that is kept (rerun it with `cd DIR && gnuplot PREFIX-NAME.gp`), and
- * PREFIX-animation.html. Everything is read back from the CSV file, so the
+ * PREFIX-animation.html (eom_run_animation: the chain element draws
+ * its links, joints and tip). Everything is read back from the CSV file, so the
  * plots show what the file holds. The scripts and the page are written
  * first and gnuplot runs last: when gnuplot is missing, the user still has
  * the CSV, the scripts and the animation. */
@@ -19,7 +20,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "chain_animation.h"
 #include "chain_shape.h"
 #include "chain_plot_scripts.h"
 #include "eom/run.h"
@@ -43,7 +43,7 @@ int chain_plots_write(const eom_system *s, int links, const char *csv_path,
     chain_shape *c = NULL;
     plot_job job;
     eom_plot_place p;
-    char path[8192], name[2048], msg[1024], title[1100];
+    char path[8192], name[2048], msg[1024];
     int rc = -1, k, kg;
 
     if (eom_plot_place_of(&p, csv_path, err, errlen) != 0)
@@ -71,12 +71,9 @@ int chain_plots_write(const eom_system *s, int links, const char *csv_path,
 
     /* everything that does not need gnuplot first; path always fits
      * (dir and prefix are bounded), but say so if it ever does not */
-    snprintf(title, sizeof title, "%.1000s: the deformed chain over time",
-             p.csv_name);
-    if (eom_plot_place_path(&p, "animation.html", path, sizeof path) != 0)
-        goto too_long;
-    if (chain_animation_write(path, c, t, title, job.exaggeration,
-                              job.gravity, err, errlen) != 0)
+    /* the animation page of every model with drawings (the chain element
+     * draws its links, joints and tip) */
+    if (eom_run_animation(NULL, s, csv_path, err, errlen) != 0)
         goto done;
     if (eom_plot_place_path(&p, "snapshots.dat", path, sizeof path) != 0)
         goto too_long;

@@ -296,7 +296,18 @@ int eom_run_animation(const char *label, const eom_system *s,
         }
     }
     planar = is_planar(s, v, nframes, nv);
-    snprintf(title, sizeof title, "%.1000s", label ? label : place.prefix);
+    {
+        /* the model's name: a path's last part, without ".eom" */
+        const char *base = label ? label : place.prefix, *sl;
+        size_t len;
+        if ((sl = strrchr(base, '/')) != NULL && sl[1])
+            base = sl + 1;
+        len = strlen(base);
+        if (len > 4 && strcmp(base + len - 4, ".eom") == 0)
+            len -= 4;
+        snprintf(title, sizeof title, "%.*s", (int)(len > 1000 ? 1000 : len),
+                 base);
+    }
     if (eom_csv_writer_open(&w, path, err, errlen) != 0)
         goto done;
     write_page(csv_writer_file(w), s, t, v, nframes, stride, nv, planar,

@@ -431,14 +431,18 @@ static void check_file(const char *dir_file, const char *magic)
     free(text);
 }
 
-/* The page embeds one frame per row, [t, theta1..N, q...], the first of
- * them the CSV's first row, and loads nothing from the network. */
+/* The page (eom_run_animation) embeds one frame per row, its times the
+ * CSV's, and loads nothing from the network; its first drawing is link 1,
+ * from the pin at the origin along the paper's first angle, 5 pi/12: its
+ * second point a quarter of the 10 m link along it (no deflection at the
+ * start). */
 static void check_animation(const char *path, int rows, int N)
 {
-    static const double paper[5] = {5, 1, 0, 17, 13};
     char *html = read_file(path, NULL);
     const char *p;
-    int frames = 0, j;
+    char *end = NULL;
+    int frames = 0;
+    double v[6];
     CHECK(html != NULL);
     if (!html)
         return;
@@ -446,25 +450,33 @@ static void check_animation(const char *path, int rows, int N)
     CHECK_HAS(html, "Pause");
     CHECK(!has(html, "http:") && !has(html, "https:") &&
           !has(html, " src="));
-    p = strstr(html, "const frames = [\n");
+    p = strstr(html, "\"t\": [");
     CHECK(p != NULL);
     if (p) {
-        const char *line = strchr(p, '\n') + 1;
-        /* the first frame: t = 0 and the documented angles */
-        char *end;
-        double v = strtod(line + 1, &end);
-        CHECK(line[0] == '[' && v == 0.0);
-        for (j = 0; j < N && *end == ','; j++) {
-            v = strtod(end + 1, &end);
-            CHECK_NEAR(v, paper[j] * pi / 12, 1e-8);
-        }
-        CHECK_INT(j, N);
-        while (line[0] == '[') {
-            frames++;
-            line = strchr(line, '\n') + 1;
-        }
+        p += 6;
+        CHECK(strtod(p, &end) == 0.0);
+        for (frames = 1; *end == ','; frames++)
+            strtod(end + 1, &end);
     }
     CHECK_INT(frames, rows);
+    CHECK(strstr(html, "{\"name\": \"link1\", \"kind\": \"polyline\"") !=
+          NULL);
+    {
+        char want[32];
+        snprintf(want, sizeof want, "\"link%d\"", N);
+        CHECK_HAS(html, want);
+    }
+    p = strstr(html, "\"v\": [");
+    CHECK(p != NULL);
+    if (p) {
+        int k;
+        for (k = 0; k < 6; k++)
+            v[k] = strtod(k == 0 ? p + 6 : end + 1, &end);
+        CHECK_NEAR(v[0], 0.0, 1e-12);
+        CHECK_NEAR(v[1], 0.0, 1e-12);
+        CHECK_NEAR(v[3], 2.5 * cos(5 * pi / 12), 1e-6);
+        CHECK_NEAR(v[4], 2.5 * sin(5 * pi / 12), 1e-6);
+    }
     free(html);
 }
 

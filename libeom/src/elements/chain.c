@@ -22,6 +22,7 @@
 #include <string.h>
 
 #include "eom/chain.h"
+#include "eom/drawing.h"
 
 /* strict C11 has no M_PI */
 static const double pi = 3.14159265358979323846;
@@ -342,6 +343,87 @@ static double pick(const double *arr, int j, double shared)
     return arr ? arr[j] : shared;
 }
 
+/* ---- drawings (eom/drawing.h) ----------------------------------------
+ * Each link as the deflected beam through five points, x = k/4 of its
+ * length along it and sum_i q_i sin(i pi x) across it (the assumed modes
+ * of the energies above), its joints and its tip: what the animation page
+ * of a run shows. */
+
+/* The joint before link j (j = N: the tip), component 0 (x) or 1 (y). */
+static tp_val chain_joint(eom_ctx *c, const chain *ch, int j, int comp)
+{
+    tp_rec *r = eom_rec(c);
+    tp_val v = tp_const(r, 0.0);
+    int i;
+    for (i = 0; i < j; i++) {
+        const tp_val th = eom_q(c, ch->th[i]);
+        v = tp_add(r, v, tp_mul(r, eom_param_at(c, ch->p_L[i]),
+                                comp ? tp_sin(r, th) : tp_cos(r, th)));
+    }
+    return v;
+}
+
+static int chain_draw_fn(eom_ctx *c, void *user, tp_val *out)
+{
+    const chain_probe *p = user;
+    const chain *ch = p->ch;
+    const int j = p->link;
+    tp_rec *r = eom_rec(c);
+    int k, i;
+    if (p->kind != 3) { /* a joint or the tip: a point */
+        out[0] = chain_joint(c, ch, j, 0);
+        out[1] = chain_joint(c, ch, j, 1);
+        out[2] = tp_const(r, 0.0);
+        return 0;
+    }
+    {
+        const tp_val x0 = chain_joint(c, ch, j, 0),
+                     y0 = chain_joint(c, ch, j, 1),
+                     th = eom_q(c, ch->th[j]),
+                     L = eom_param_at(c, ch->p_L[j]);
+        const tp_val ct = tp_cos(r, th), st = tp_sin(r, th);
+        for (k = 0; k <= 4; k++) {
+            const double xi = k / 4.0;
+            tp_val w = tp_const(r, 0.0), a = tp_mulc(r, L, xi);
+            for (i = 1; i <= ch->K[j]; i++)
+                w = tp_add(r, w, tp_mulc(r, eom_q(c, ch->q[j] + i - 1),
+                                         sin(i * pi * xi)));
+            out[3 * k] = tp_sub(r, tp_add(r, x0, tp_mul(r, a, ct)),
+                                tp_mul(r, w, st));
+            out[3 * k + 1] = tp_add(r, tp_add(r, y0, tp_mul(r, a, st)),
+                                    tp_mul(r, w, ct));
+            out[3 * k + 2] = tp_const(r, 0.0);
+        }
+    }
+    return 0;
+}
+
+static int chain_drawings(eom_model *m, chain *ch)
+{
+    char name[64];
+    int j, rc;
+    for (j = 0; j <= 2 * ch->N; j++) {
+        chain_probe *p = &ch->probes[3 * ch->N + j];
+        p->ch = ch;
+        p->link = j < ch->N ? j : j - ch->N;
+        p->kind = j < ch->N ? 3 : j < 2 * ch->N ? 4 : 5;
+        if (p->kind == 3)
+            snprintf(name, sizeof name, "%slink%d", ch->prefix, j + 1);
+        else if (p->kind == 4)
+            snprintf(name, sizeof name, "%sjoint%d", ch->prefix, p->link);
+        else
+            snprintf(name, sizeof name, "%stip", ch->prefix);
+        rc = eom_model_add_drawing(
+            m, name, p->kind == 3 ? EOM_DRAW_POLYLINE : EOM_DRAW_POINT,
+            p->kind == 3 ? 15 : 3,
+            p->kind == 3 ? 0x1f5fbfu : p->kind == 4 ? 0x000000u : 0xe41a1cu,
+            p->kind == 5 ? EOM_DRAW_TRAIL : 0, chain_draw_fn, p);
+        if (rc < 0)
+            return rc;
+    }
+    return 0;
+}
+
 int eom_chain_add(eom_model *m, const eom_chain_spec *sp)
 {
     chain *ch;
@@ -365,7 +447,8 @@ int eom_chain_add(eom_model *m, const eom_chain_spec *sp)
     ch->q = calloc((size_t)N, sizeof(int));
     ch->damped = calloc((size_t)N + 1, 1);
     ch->sprung = calloc((size_t)N + 1, 1);
-    ch->probes = calloc(3 * (size_t)N, sizeof *ch->probes);
+    /* the probes, then the drawings: links, joints, the tip */
+    ch->probes = calloc(5 * (size_t)N + 1, sizeof *ch->probes);
     ch->p_m = malloc((size_t)N * sizeof(int));
     ch->p_L = malloc((size_t)N * sizeof(int));
     ch->p_EI = malloc((size_t)N * sizeof(int));
@@ -484,5 +567,7 @@ int eom_chain_add(eom_model *m, const eom_chain_spec *sp)
                 return fail(m, rc);
         }
     }
+    if ((rc = chain_drawings(m, ch)) < 0)
+        return fail(m, rc);
     return first;
 }
