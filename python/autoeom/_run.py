@@ -11,8 +11,9 @@ class Run:
     docs/csv.md), and the integrator's ``stats``. ``run["name"]`` is one
     column; ``run.dataframe()`` the table as a pandas DataFrame."""
 
-    def __init__(self, system, names, data, stats, sens_names, n_sens):
-        n = system.ncoords
+    def __init__(self, system, names, data, stats, sens_names, n_sens,
+                 groups=()):
+        n, m = system.ncoords, system.nconstraints
         self.names = list(names) + list(sens_names)
         self.data = data
         self.stats = stats
@@ -23,13 +24,18 @@ class Run:
         self.qd = self.x[:, n:]
         for key in ("T", "V", "E", "W"):
             setattr(self, key, data[:, self._index[key]])
-        first = self._index["W"] + 1 + 2 * system.nconstraints
+        # the CSV's order (docs/csv.md): phi, phidot, probes, then the
+        # optional groups in a fixed order; by position, as a probe may
+        # have any name
+        first = self._index["W"] + 1 + 2 * m
         self.probes = data[:, first:first + system.nprobes]
-        lam = [k for k, name in enumerate(names) if name.startswith("lambda")]
-        self.multipliers = data[:, lam] if lam else None
-        acc = [self._index[c + "_ddot"] for c in system.coord_names
-               if c + "_ddot" in self._index]
-        self.accelerations = data[:, acc] if acc else None
+        at = first + system.nprobes
+        self.accelerations = self.multipliers = None
+        if "accelerations" in groups:
+            self.accelerations = data[:, at:at + n]
+            at += n
+        if "multipliers" in groups:
+            self.multipliers = data[:, at:at + m]
         if n_sens:
             tail = data[:, len(names):]
             self.sensitivities = tail.reshape(len(data), n_sens,

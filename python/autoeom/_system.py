@@ -99,7 +99,8 @@ class System(_core.System):
         sens_names = ["d(%s)/d(%s)" % (state, inp) for inp in sens
                       for state in self.coord_names +
                       [c + "_dot" for c in self.coord_names]]
-        run = Run(self, names, data, stats, sens_names, len(sens))
+        run = Run(self, names, data, stats, sens_names, len(sens),
+                  groups=columns or ())
         if error is not None:
             status, message = error
             exc = Error(message)

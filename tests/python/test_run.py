@@ -1,6 +1,8 @@
 """What a run hands back besides its rows: the progress callback, a
 failure part way (the rows before it kept in the exception), the named
 columns and the DataFrame where pandas is installed."""
+import os
+
 import numpy as np
 import pytest
 
@@ -55,3 +57,17 @@ def test_dataframe_where_pandas_is_installed(spring):
     assert isinstance(df, pandas.DataFrame)
     assert list(df.columns) == run.names
     assert np.array_equal(df["theta"].to_numpy(), run["theta"])
+
+
+def test_multipliers_by_position_whatever_the_names(models_dir):
+    s = autoeom.load(os.path.join(models_dir, "four-bar.eom"))
+    run = s.run(t_end=0.1, sample=0.05,
+                columns=["multipliers", "accelerations", "health"])
+    assert run.multipliers.shape == (3, s.nconstraints)
+    assert run.accelerations.shape == (3, s.ncoords)
+    for k in range(len(run)):
+        assert np.array_equal(run.multipliers[k],
+                              s.multipliers(run.t[k], run.x[k]))
+        assert np.array_equal(run.accelerations[k],
+                              s.accelerations(run.t[k], run.x[k]))
+
