@@ -245,6 +245,10 @@ struct eom_system {
     double *Mf;    /* n x n Cholesky factor (its lower triangle; the
                       upper one is never read) */
     bool mf_valid; /* Mf holds the factor of a mass matrix */
+    double mass_pivot_min; /* an integrator's floor on each coordinate's
+                              relative pivot L_ii^2 / M_ii (rhs.c,
+                              eom__factor_mass); 0: only a factor that
+                              fails is singular */
     double *g;     /* n  dL/dq */
     double *h;     /* n  (d2L/dqd dq) qd */
     double *F;     /* n  g - h - dR/dqd + Q */
@@ -495,6 +499,11 @@ int eom__refuse_time(eom_system *s, const char *what);
  * solve; leaves M, Mf, F, C, lam, qdd, power in s. */
 int eom__evaluate(eom_system *s, double t, const double *x);
 /* Factor s->M into s->Mf (Cholesky); EOM_ERR_SINGULAR_MASS on failure. */
+/* The smallest relative pivot L_kk^2 / M_kk of the factor in s->Mf (of
+ * s->M): the part of coordinate k's inertia not shared with the
+ * coordinates before it (1 for a coordinate independent of them, 0 when
+ * it moves only with them); its index into *k. */
+double eom__mass_min_pivot(const eom_system *s, int *k);
 int eom__factor_mass(eom_system *s);
 /* cholesky_columns.c: the Cholesky factor of mass matrices of medium
  * size, up to this n (LAPACK's above): the lower triangle of M (n x n,

@@ -49,6 +49,9 @@ struct eom_integ {
     char erk_table[EOM_TABLE_NAME_LEN]; /* o.erk_table, or "" */
     struct eom_branch *branch; /* with constraints: the assembly branch
                                   (branch.c) */
+    double pivot_saved;  /* the system's mass_pivot_min before this
+                            integrator set its own (restored by
+                            eom_integ_free) */
     int refuse_singular; /* adams, ida with constraints: an evaluation at
                             a singular or redundant constraint system is
                             an error (eom__integ_rhs) */

@@ -75,7 +75,7 @@ int eom__sun_failed(eom_integ *it, const eom_sun_report *r,
     /* a failed callback is the cause; otherwise the solver's own error */
     const int status = r->cb_status != EOM_OK ? r->cb_status : EOM_ERR_SOLVER;
     const char *why = r->cb_status != EOM_OK ? r->cb_msg : r->sun_msg;
-    char guess[3 * EOM_MSG_LEN];
+    char guess[3 * EOM_MSG_LEN], note[400];
     if (!why[0]) {
         /* the solver gave no reason: say what the run's figures suggest */
         if (it->s->m > 0 && it->s->rcond_S_min < 1e-3)
@@ -102,8 +102,24 @@ int eom__sun_failed(eom_integ *it, const eom_sun_report *r,
                      : "");
         why = guess;
     }
-    eom__integ_fail(it, status, "%s: %s at t = %.17g: %s", method,
-                    flag_name ? flag_name : "unknown flag", t, why);
+    note[0] = '\0';
+    if (status == EOM_ERR_SOLVER && it->s->mf_valid) {
+        /* an error test that fails, a step that collapses: a mass matrix
+         * close to singular at the last evaluation is the likely cause,
+         * named here beside the solver's generic reason */
+        int k;
+        const double piv = eom__mass_min_pivot(it->s, &k);
+        if (piv < 1e-6)
+            snprintf(note, sizeof note, "; the mass matrix is nearly "
+                     "singular at the last evaluation: the coordinate '%.64s' "
+                     "(leading minor of order %d) keeps %.2g of its inertia "
+                     "apart from the coordinates before it, a singular "
+                     "configuration of the coordinates (such as Euler angles "
+                     "at gimbal lock) is the likely cause",
+                     it->s->coords[k].name, k + 1, piv);
+    }
+    eom__integ_fail(it, status, "%s: %s at t = %.17g: %s%s", method,
+                    flag_name ? flag_name : "unknown flag", t, why, note);
     free(flag_name);
     return status;
 }

@@ -207,6 +207,23 @@ EOM_NOINLINE static int lapack_potrs(eom_system *s, double *B, int nrhs)
     return EOM_OK;
 }
 
+double eom__mass_min_pivot(const eom_system *s, int *k)
+{
+    const size_t n = (size_t)s->n;
+    double best = INFINITY;
+    size_t i;
+    *k = 0;
+    for (i = 0; i < n; i++) {
+        const double l = s->Mf[i * n + i], m = s->M[i * n + i];
+        const double r = m > 0.0 ? l * l / m : 0.0;
+        if (r < best) {
+            best = r;
+            *k = (int)i;
+        }
+    }
+    return best;
+}
+
 int eom__factor_mass(eom_system *s)
 {
     const int n = s->n;
@@ -214,13 +231,36 @@ int eom__factor_mass(eom_system *s)
                      : n <= EOM_COLUMN_CHOLESKY
                          ? eom__potrf_columns(n, s->M, s->Mf)
                          : lapack_potrf(n, s->M, s->Mf);
+    int k;
+    double r;
     s->mf_valid = info == 0;
     if (info > 0)
         return eom__fail(s, EOM_ERR_SINGULAR_MASS,
-                         "the mass matrix is not positive definite (its "
-                         "leading minor of order %d is not positive)", info);
+                         "the mass matrix is not positive definite: the "
+                         "coordinate '%s' (its leading minor of order %d "
+                         "is not positive) moves only with the "
+                         "coordinates before it, or has no inertia",
+                         s->coords[info - 1].name, info);
     if (info < 0)
         return eom__fail(s, EOM_ERR_LINALG, "dpotrf: argument %d", -info);
+    /* nearly singular: the accelerations lose a digit for each decade of
+     * the pivot, and past the integrator's floor they cannot be computed
+     * to its tolerance (the step would shrink towards zero) */
+    if (s->mass_pivot_min > 0.0 &&
+        (r = eom__mass_min_pivot(s, &k)) < s->mass_pivot_min) {
+        s->mf_valid = false;
+        return eom__fail(s, EOM_ERR_SINGULAR_MASS,
+                         "the mass matrix is singular to working precision: "
+                         "the coordinate '%s' (leading minor of order %d) "
+                         "keeps %.2g of its inertia apart from the "
+                         "coordinates before it, below %.2g (the machine's "
+                         "precision over the tolerance), so its "
+                         "acceleration cannot be computed to the "
+                         "tolerance: a singular configuration of the "
+                         "coordinates (such as Euler angles at gimbal "
+                         "lock)", s->coords[k].name, k + 1, r,
+                         s->mass_pivot_min);
+    }
     return EOM_OK;
 }
 

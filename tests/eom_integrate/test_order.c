@@ -21,8 +21,9 @@
  *   - erk with another table by name (Dormand-Prince 5(4)): its order;
  *     an unknown name is an error naming it;
  *   - per-coordinate absolute tolerances (atol_vec): equal entries give
- *     the scalar atol's run bit for bit, loose ones a looser result, a
- *     bad entry an error.
+ *     the scalar atol's run bit for bit, loose ones a looser result (a
+ *     loose entry for the rate alone too: the rates get their own
+ *     entries, not the scalar atol), a bad entry an error.
  * adams, bdf and ida (order at each highest order, and the global error
  * against the tolerance on three models) are test_tolerance.c's.
  */
@@ -152,7 +153,7 @@ static void tolerances(void)
      * and its rate is a looser run than tight */
     for (i = 0; i < 5; i++) {
         const double same[2] = {1e-3, 1e-3}, loose[2] = {1e-1, 1e-1};
-        const double tight[2] = {1e-5, 1e-5};
+        const double tight[2] = {1e-5, 1e-5}, rate_loose[2] = {1e-5, 1e-1};
         double xs[2], xv[2], el, et;
         osc_run(s, adaptive[i], 1e-12, 1e-3, NULL, xs);
         osc_run(s, adaptive[i], 1e-12, 1e-3, same, xv);
@@ -162,6 +163,13 @@ static void tolerances(void)
         printf("%-5s: error %.3g with atol_vec 1e-1, %.3g with 1e-5\n",
                eom_method_name(adaptive[i]), el, et);
         CHECK(el > 10.0 * et);
+        /* the rate's own entry counts, not the scalar atol: loose for
+         * the rate alone, the scalar tight */
+        el = osc_run(s, adaptive[i], 1e-12, 1e-5, rate_loose, NULL);
+        printf("%-5s: error %.3g with the rate's atol 1e-1 (the "
+               "coordinate's and the scalar 1e-5)\n",
+               eom_method_name(adaptive[i]), el);
+        CHECK(el > 3.0 * et); /* 6.5 to 13 times; the scalar's: 1 */
     }
     {
         const double bad[2] = {1e-3, -1.0};
