@@ -34,6 +34,7 @@
 #include "describe.h"
 #include "eom/eom.h"
 #include "eom/steady.h"
+#include "assemble_arg.h"
 #include "linearize_report.h"
 #include "modes_report.h"
 #include "modes_sweep.h"
@@ -60,6 +61,7 @@ typedef struct cli {
     int linearize;         /* --linearize: A, B about the start state */
     const char *sweep_arg; /* --sweep NAME=LO:HI:N (with --modes) */
     modes_sweep sweep;     /* its fields */
+    const char *assemble_arg; /* --assemble NAME[,NAME...] */
     const char *indep_arg; /* --independent NAME[,NAME...] */
     int *indep;            /* their state indices */
     int nindep;
@@ -94,6 +96,7 @@ enum {
     OPT_COMPILED,
     OPT_SWEEP,
     OPT_INDEPENDENT,
+    OPT_ASSEMBLE,
     OPT_ACCEPT_UNHEALTHY
 };
 
@@ -121,6 +124,7 @@ static const struct option long_options[] = {
     {"linearize", no_argument, NULL, OPT_LINEARIZE},
     {"sweep", required_argument, NULL, OPT_SWEEP},
     {"independent", required_argument, NULL, OPT_INDEPENDENT},
+    {"assemble", required_argument, NULL, OPT_ASSEMBLE},
     {"sensitivity", required_argument, NULL, OPT_SENSITIVITY},
     {"columns", required_argument, NULL, OPT_COLUMNS},
     {"compiled", no_argument, NULL, OPT_COMPILED},
@@ -237,6 +241,12 @@ static void help(void)
         "about the start,\n"
         "                        reduced to independent coordinates and "
         "speeds\n"
+        "      --assemble NAME[,NAME...]\n"
+        "                        close the start's loops from these "
+        "coordinates and their\n"
+        "                        rates, as given: the others are solved "
+        "(an error when\n"
+        "                        the loop cannot close)\n"
         "      --independent NAME[,NAME...]\n"
         "                        with --modes about a steady motion: the "
         "coordinates and\n"
@@ -668,6 +678,7 @@ static int parse(int argc, char **argv, cli *c)
                 return cli_usage_error("--independent: no name");
             c->indep_arg = optarg;
             break;
+        case OPT_ASSEMBLE: c->assemble_arg = optarg; break;
         case OPT_COMPILED: c->compiled = 1; break;
         case OPT_ACCEPT_UNHEALTHY: c->accept_unhealthy = 1; break;
         case OPT_SENSITIVITY:
@@ -804,6 +815,12 @@ static int run(cli *c, const demo *d)
     }
     if (overrides_apply(c->sets, c->nsets, d, s, x0, err, sizeof err) != 0) {
         status = cli_usage_error("%s", err);
+        goto done;
+    }
+    if (c->assemble_arg &&
+        (rc = assemble_start(c->assemble_arg, s, x0, c->opts.proj_tol,
+                             d->name, c->quiet, EXIT_RUN)) != 0) {
+        status = rc;
         goto done;
     }
     if (c->indep_arg && (rc = independent_arg(c, s)) != 0) {

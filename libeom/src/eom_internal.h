@@ -607,6 +607,10 @@ void dgeev_(const char *jobvl, const char *jobvr, const int *n, double *a,
             const int *lwork, int *info, size_t jobvl_len, size_t jobvr_len);
 void dgesv_(const int *n, const int *nrhs, double *a, const int *lda,
             int *ipiv, double *b, const int *ldb, int *info);
+void dgelss_(const int *m, const int *n, const int *nrhs, double *a,
+             const int *lda, double *b, const int *ldb, double *s,
+             const double *rcond, int *rank, double *work, const int *lwork,
+             int *info);
 void dgeqp3_(const int *m, const int *n, double *a, const int *lda,
              int *jpvt, double *tau, double *work, const int *lwork,
              int *info);

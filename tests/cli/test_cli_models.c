@@ -988,6 +988,85 @@ static void case_constraint_names(void)
     result_free(&r);
 }
 
+/* The shipped four-bar's joint where the coupler meets the rocker, by
+ * circle intersection: the coupler (l2 = 3) from the crank's tip at th1
+ * (l1 = 1), the rocker (l3 = 2) from (d, 0) = (3, 0), on the branch with
+ * the joint above the line from the crank's tip to the rocker's pivot
+ * (the file's own start); th2 and th3 from the joint. */
+static void four_bar_closed(double th1, double *th2, double *th3)
+{
+    const double l2 = 3.0, l3 = 2.0, d = 3.0;
+    const double px = cos(th1), py = sin(th1);
+    const double ex = d - px, ey = -py, e = hypot(ex, ey);
+    const double a = (l2 * l2 - l3 * l3 + e * e) / (2.0 * e);
+    const double h = sqrt(l2 * l2 - a * a);
+    /* the left normal of the direction from the tip to the pivot */
+    const double jx = px + a * ex / e - h * ey / e;
+    const double jy = py + a * ey / e + h * ex / e;
+    *th2 = atan2(jy - py, jx - px);
+    *th3 = atan2(jy, jx - d);
+}
+
+/* --assemble: the four-bar's coupler and rocker solved from the crank
+ * angle and rate given, against the closed-form geometry (the rates
+ * against its central difference in th1); the crank as given, exactly; a
+ * ground link too long to close names the open constraint and fails;
+ * names that are not coordinates and a model without constraints are
+ * usage errors. */
+static void case_assemble(void)
+{
+    char path[1200], out[300], msg[256], *text;
+    const char *args[] = {path, "--set", "th1=1.0", "--set", "th1_dot=2",
+                          "--assemble", "th1", "--t-end", "0.01", "--out",
+                          out, NULL};
+    const char *far[] = {path, "--set", "th1=1.0", "--set", "d=10",
+                         "--assemble", "th1", "--t-end", "0.01", "-q", NULL};
+    const char *bad[] = {path, "--assemble", "th1,phi9", NULL};
+    const char *none[] = {"spring-pendulum", "--assemble", "r", NULL};
+    double th2, th3, a2, a3, b2, b3;
+    const double hh = 1e-6;
+    result r;
+    csv c;
+    model_path(path, sizeof path, "four-bar");
+    scratch(out, sizeof out, "assembled.csv");
+    run(&r, args);
+    CHECK_INT(r.status, 0);
+    CHECK_HAS(r.err, "assembled from th1: th2 = ");
+    result_free(&r);
+    four_bar_closed(1.0, &th2, &th3);
+    four_bar_closed(1.0 + hh, &a2, &a3);
+    four_bar_closed(1.0 - hh, &b2, &b3);
+    text = read_file(out, NULL);
+    CHECK(text != NULL);
+    if (text && csv_parse(text, &c, msg, sizeof msg) == 0) {
+        CHECK(at(&c, 0, csv_col(&c, "th1")) == 1.0);
+        CHECK(at(&c, 0, csv_col(&c, "th1_dot")) == 2.0);
+        CHECK_NEAR(at(&c, 0, csv_col(&c, "th2")), th2, 1e-12);
+        CHECK_NEAR(at(&c, 0, csv_col(&c, "th3")), th3, 1e-12);
+        CHECK_NEAR(at(&c, 0, csv_col(&c, "th2_dot")),
+                   2.0 * (a2 - b2) / (2 * hh), 1e-7);
+        CHECK_NEAR(at(&c, 0, csv_col(&c, "th3_dot")),
+                   2.0 * (a3 - b3) / (2 * hh), 1e-7);
+        free(c.v);
+    } else {
+        CHECK_FAIL_("%s", text ? msg : "no CSV");
+    }
+    free(text);
+    run(&r, far);
+    CHECK_INT(r.status, 1);
+    CHECK_HAS(r.err, "--assemble: the loop cannot close with the "
+                     "coordinates held (th1): the constraint 'loop_");
+    result_free(&r);
+    run(&r, bad);
+    CHECK_INT(r.status, 2);
+    CHECK_HAS(r.err, "'phi9' is not a coordinate");
+    result_free(&r);
+    run(&r, none);
+    CHECK_INT(r.status, 2);
+    CHECK_HAS(r.err, "no constraints");
+    result_free(&r);
+}
+
 /* --columns health on a parallelogram in point coordinates, whose crank
  * turns over and over (about one flat position every half second, where C
  * loses rank): the counts never decrease, start at 0, end at the
@@ -1204,6 +1283,7 @@ static const struct {
     {"model_compiled", case_compiled},
     {"model_columns", case_columns},
     {"model_constraint_names", case_constraint_names},
+    {"model_assemble", case_assemble},
     {"model_linearize", case_linearize},
     {"model_linearize_names", case_linearize_names},
     {"model_sensitivity", case_sensitivity},

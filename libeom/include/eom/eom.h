@@ -453,6 +453,19 @@ EOM_API int eom_project(eom_system *s, double *x, double tol, int *iters);
  * through M, such as the deflections of a flexible link). */
 EOM_API int eom_project_start(eom_system *s, double *x, double tol,
                               int *iters);
+/* Assembly of a closed loop from the coordinates the user gives: the
+ * coordinates with held[i] != 0 and their rates keep their values in x;
+ * the others are solved so that max |phi| <= tol (Gauss-Newton steps of
+ * least norm on the free coordinates, halved while they do not reduce
+ * |phi|, at most 50) and then C qd + dphi/dt = 0 (one least-norm
+ * correction of the free rates), at the system's time. *iters (may be
+ * NULL) receives the iterations on q. EOM_ERR_PROJECTION with a message
+ * naming the constraint that stays open and the held coordinates when
+ * the loop cannot close (a linkage that cannot reach the given input, a
+ * start too far from any closure) or when the held rates contradict the
+ * constraints; x is then left as given. */
+EOM_API int eom_assemble(eom_system *s, double *x, const int *held,
+                         double tol, int *iters);
 
 /* ---- linearization ---------------------------------------------------- */
 
