@@ -61,15 +61,16 @@ static int bind_params(tp_rec *r, const eom_system *s, const tp_tape *t,
     int k, j, np = tp_tape_n_params(t);
     for (k = 0; k < np; k++) {
         const char *name = tp_tape_param_name(t, k);
-        if (strcmp(name, EOM_TIME_NAME) == 0) {
-            par[k] = time;
-            continue;
-        }
-        par[k] = tp_param(r, name, tp_tape_param_default(t, k));
-        for (j = 0; p && j < s->np; j++)
-            if (strcmp(name, s->params[j].name) == 0)
-                par[k] = p[j];
+        par[k] = strcmp(name, EOM_TIME_NAME) == 0
+                     ? time
+                     : tp_param(r, name, tp_tape_param_default(t, k));
     }
+    /* the system's parameters found on t by name (a bisection each, not
+     * a scan of all: tens of thousands of parameters bind in n log n) */
+    for (j = 0; p && j < s->np; j++)
+        if ((k = tp_tape_param_index(t, s->params[j].name)) >= 0 &&
+            strcmp(s->params[j].name, EOM_TIME_NAME) != 0)
+            par[k] = p[j];
     return tp_rec_status(r);
 }
 

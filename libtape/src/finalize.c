@@ -42,6 +42,8 @@ static void tape_release(tp_tape *t)
             tp__strfree(&al, t->param_name[i]);
     tp__free(&al, t->param_name, (size_t)t->n_param * sizeof(char *));
     tp__free(&al, t->param_dflt, (size_t)t->n_param * sizeof(double));
+    tp__free(&al, t->out_order, (size_t)t->n_out * 4);
+    tp__free(&al, t->param_order, (size_t)t->n_param * 4);
     tp__free(&al, t->group, t->n_indep);
     tp__free(&al, t, sizeof *t);
 }
@@ -64,6 +66,48 @@ static int has_slot_operands(unsigned op, int *nops)
     return *nops;
 }
 
+/* order[0..n) = 0..n-1 sorted by names[] ascending (strcmp): a bottom-up
+ * merge sort, n log n comparisons and one scratch array. A tape's names
+ * are unique (the recorder refuses a name given twice). 0, or -1 out of
+ * memory. */
+static int name_order(const tp_allocator *al, char *const *names, uint32_t n,
+                      uint32_t *order)
+{
+    uint32_t *tmp, *a = order, *b, i;
+    uint64_t w;
+    for (i = 0; i < n; i++)
+        order[i] = i;
+    if (n < 2)
+        return 0;
+    tmp = tp__calloc(al, n, 4);
+    if (!tmp)
+        return -1;
+    b = tmp;
+    for (w = 1; w < n; w *= 2) {
+        for (i = 0; i < n; i = (uint32_t)(i + 2 * w < n ? i + 2 * w : n)) {
+            const uint32_t mid = (uint32_t)(i + w < n ? i + w : n);
+            const uint32_t end = (uint32_t)(i + 2 * w < n ? i + 2 * w : n);
+            uint32_t p = i, q = mid, k = i;
+            while (p < mid && q < end)
+                b[k++] = strcmp(names[a[q]], names[a[p]]) < 0 ? a[q++]
+                                                              : a[p++];
+            while (p < mid)
+                b[k++] = a[p++];
+            while (q < end)
+                b[k++] = a[q++];
+        }
+        {
+            uint32_t *s = a;
+            a = b;
+            b = s;
+        }
+    }
+    if (a != order)
+        memcpy(order, a, (size_t)n * 4);
+    tp__free(al, tmp, (size_t)n * 4);
+    return 0;
+}
+
 /* Allocate every array of t (counts already set); 0 or -1. */
 static int tape_alloc(tp_tape *t)
 {
@@ -77,10 +121,12 @@ static int tape_alloc(tp_tape *t)
     t->out_name = tp__calloc(al, t->n_out, sizeof(char *));
     t->param_name = tp__calloc(al, t->n_param, sizeof(char *));
     t->param_dflt = tp__calloc(al, t->n_param, sizeof(double));
+    t->out_order = tp__calloc(al, t->n_out, 4);
+    t->param_order = tp__calloc(al, t->n_param, 4);
     t->group = tp__calloc(al, t->n_indep, 1);
     if (!t->opc || !t->dep || !t->a0 || !t->a1 || !t->konst ||
         !t->out_slot || !t->out_name || !t->param_name || !t->param_dflt ||
-        !t->group)
+        !t->out_order || !t->param_order || !t->group)
         return -1;
     return 0;
 }
@@ -239,6 +285,9 @@ int tp__tape_build(const tp_rawtape *raw, const tp_allocator *al,
         if (!t->param_name[i])
             goto fail;
     }
+    if (name_order(al, t->out_name, t->n_out, t->out_order) != 0 ||
+        name_order(al, t->param_name, t->n_param, t->param_order) != 0)
+        goto fail;
     if (pair_sincos(t, al) != 0)
         goto fail;
 
@@ -275,25 +324,37 @@ int tp_tape_n_indep(const tp_tape *t) { return t ? (int)t->n_indep : 0; }
 int tp_tape_n_outputs(const tp_tape *t) { return t ? (int)t->n_out : 0; }
 int tp_tape_n_params(const tp_tape *t) { return t ? (int)t->n_param : 0; }
 
-static int find_name(char *const *names, uint32_t n, const char *name)
+/* The index of name among names[0..n) by bisection of order (the
+ * indices sorted by name), or -1: a model with tens of thousands of
+ * parameters maps them to its tapes in O(n log n), not O(n^2). */
+static int find_name(char *const *names, const uint32_t *order, uint32_t n,
+                     const char *name)
 {
-    uint32_t i;
+    uint32_t lo = 0, hi = n;
     if (!name)
         return -1;
-    for (i = 0; i < n; i++)
-        if (strcmp(names[i], name) == 0)
-            return (int)i;
+    while (lo < hi) {
+        const uint32_t mid = lo + (hi - lo) / 2;
+        const int c = strcmp(names[order[mid]], name);
+        if (c == 0)
+            return (int)order[mid];
+        if (c < 0)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
     return -1;
 }
 
 int tp_tape_output_index(const tp_tape *t, const char *name)
 {
-    return t ? find_name(t->out_name, t->n_out, name) : -1;
+    return t ? find_name(t->out_name, t->out_order, t->n_out, name) : -1;
 }
 
 int tp_tape_param_index(const tp_tape *t, const char *name)
 {
-    return t ? find_name(t->param_name, t->n_param, name) : -1;
+    return t ? find_name(t->param_name, t->param_order, t->n_param, name)
+             : -1;
 }
 
 const char *tp_tape_output_name(const tp_tape *t, int out)

@@ -185,6 +185,9 @@ struct tp_tape {
     char **out_name;    /* [n_out] */
     char **param_name;  /* [n_param] */
     double *param_dflt; /* [n_param] */
+    uint32_t *out_order;   /* [n_out] output indices, names ascending */
+    uint32_t *param_order; /* [n_param] parameter indices, names ascending
+                              (tp_tape_*_index search them by bisection) */
     unsigned char *group; /* [n_indep] */
     tp_tape_stats stats;
 };
