@@ -24,6 +24,24 @@ int eom_energy_at(eom_system *s, double t, const double *x, eom_energy *e)
     if (!isfinite(t) || !eom__finite(x, 2 * (size_t)n))
         return eom__fail(s, EOM_ERR_NONFINITE,
                          "the state at t = %g is not finite", t);
+    /* T and V first: a domain error in one of them is named as its own,
+     * not as the Lagrangian's */
+    e->T = e->V = NAN;
+    if (s->has_tv) {
+        /* the tape holds the probes after T and V: a probe's domain error
+         * is eom_probes_at's to report, not a fault of T or V */
+        st = tp_eval(s->tE.ws, eom__tape_input(&s->tE, x, t), s->wE);
+        if (st == TP_WARN_NONFINITE && isfinite(s->wE[0]) &&
+            isfinite(s->wE[1]))
+            st = TP_OK;
+        if ((rc = eom__tape_status(s, st,
+                                   !isfinite(s->wE[0])
+                                       ? "the kinetic energy T"
+                                       : "the potential energy V")))
+            return rc;
+        e->T = s->wE[0];
+        e->V = s->wE[1];
+    }
     st = tp_gradient(s->tL.ws, eom__tape_input(&s->tL, x, t), 0, &L, s->wn);
     if ((rc = eom__tape_status(s, st, "the Lagrangian or its gradient")))
         return rc;
@@ -33,14 +51,6 @@ int eom_energy_at(eom_system *s, double t, const double *x, eom_energy *e)
         e->E += x[n + i] * s->wn[n + i];
     /* the gradient's last entry, on a tape with the time */
     dLdt = s->tL.tindex >= 0 ? s->wn[2 * n] : 0.0;
-    e->T = e->V = NAN;
-    if (s->has_tv) {
-        st = tp_eval(s->tE.ws, eom__tape_input(&s->tE, x, t), s->wE);
-        if ((rc = eom__tape_status(s, st, "the kinetic or potential energy")))
-            return rc;
-        e->T = s->wE[0];
-        e->V = s->wE[1];
-    }
     if (s->tphi.tindex >= 0 || s->mv > 0) {
         /* the constraint forces' power needs the multipliers: the whole
          * evaluation */
@@ -98,7 +108,7 @@ static int probe_multipliers_at(eom_system *s, const double *x)
 
 int eom_probes_at(eom_system *s, const double *x, double *p)
 {
-    int st, rc;
+    int st, rc, first;
     if (!s)
         return EOM_ERR_NULL;
     s->msg[0] = '\0';
@@ -111,9 +121,27 @@ int eom_probes_at(eom_system *s, const double *x, double *p)
     if ((rc = probe_multipliers_at(s, x)) != EOM_OK)
         return rc;
     st = tp_eval(s->tE.ws, eom__tape_input(&s->tE, x, s->time), s->wE);
+    /* the E tape holds T and V first when the model gave them: a non-finite
+     * one of those is not a probe's fault */
+    first = s->has_tv ? 2 : 0;
+    if (st == TP_WARN_NONFINITE) {
+        int k, bad = -1, nbad = 0;
+        for (k = 0; k < s->nprobe; k++)
+            if (!isfinite(s->wE[first + k]) && nbad++ == 0)
+                bad = k;
+        if (bad < 0) /* only T or V: the probes themselves are fine */
+            st = TP_OK;
+        else {
+            memcpy(p, s->wE + first, (size_t)s->nprobe * sizeof(double));
+            return eom__fail(s, EOM_ERR_NONFINITE,
+                             "the probe '%s' is not finite (a domain error "
+                             "in its expression, or a diverging state)%s",
+                             s->probes[bad].name,
+                             nbad > 1 ? ", and others after it" : "");
+        }
+    }
     if ((rc = eom__tape_status(s, st, "a probe")))
         return rc;
-    /* the E tape holds T and V first when the model gave them */
-    memcpy(p, s->wE + (s->has_tv ? 2 : 0), (size_t)s->nprobe * sizeof(double));
+    memcpy(p, s->wE + first, (size_t)s->nprobe * sizeof(double));
     return EOM_OK;
 }

@@ -612,8 +612,11 @@ int eom_integ_new(eom_integ **out, eom_system *s, const eom_opts *o,
     if (!out)
         return EOM_ERR_NULL;
     *out = NULL;
-    if (!s || !o || !x0)
+    if (!s)
         return EOM_ERR_NULL;
+    if (!o || !x0) /* its own message, not the previous call's */
+        return eom__fail(s, EOM_ERR_NULL, "eom_integ_new: %s is NULL",
+                         !o ? "the options argument" : "the initial state");
     if ((rc = check_opts(o, s->n, s->msg, sizeof s->msg)) != EOM_OK)
         return rc;
     if (!isfinite(t0) || !eom__finite(x0, 2 * (size_t)s->n))
@@ -621,7 +624,7 @@ int eom_integ_new(eom_integ **out, eom_system *s, const eom_opts *o,
                          "the initial state is not finite");
     /* W starts at 0 */
     if (!(y0 = calloc(2 * (size_t)s->n + 1, sizeof(double))))
-        return EOM_ERR_NOMEM;
+        return eom__fail(s, EOM_ERR_NOMEM, "eom_integ_new: out of memory");
     memcpy(y0, x0, 2 * (size_t)s->n * sizeof(double));
     rc = eom__integ_create(out, s, o, t0, y0, 1);
     free(y0);

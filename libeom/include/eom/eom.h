@@ -435,7 +435,11 @@ typedef struct eom_energy {
 } eom_energy;
 EOM_API int eom_energy_at(eom_system *s, double t, const double *x,
                           eom_energy *e);
-/* Values of the probes (nprobes values). */
+/* Values of the probes (nprobes values). A probe that is not finite
+ * there (a domain error such as the square root of a negative) gives
+ * EOM_ERR_NONFINITE with a message naming it ("the probe 'NAME' is not
+ * finite ..."); p still receives every value, that one NaN or infinite.
+ * eom_energy_at does not fail for a probe: it reports T, V and E. */
 EOM_API int eom_probes_at(eom_system *s, const double *x, double *p);
 
 /* Project x onto phi(q) = 0 and C qd = 0 (C qd + dphi/dt = 0 for
