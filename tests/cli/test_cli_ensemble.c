@@ -391,6 +391,21 @@ static void case_random(void)
     }
     free(t1);
     free(t2);
+    /* every character of MEAN counts: normal:75:0 gives 75 exactly (a
+     * reader that skipped its first character would give 5) */
+    {
+        const char *exact[] = {"spring-pendulum", "--random",
+                               "k=normal:75:0", "--count", "3", "--t-end",
+                               "0", "--out", out2, "-q", NULL};
+        char *t;
+        run(&r, exact);
+        CHECK_INT(r.status, 0);
+        result_free(&r);
+        t = read_file(out2, NULL);
+        CHECK_HAS(t, "\n0,75,ok,");
+        CHECK_HAS(t, "\n2,75,ok,");
+        free(t);
+    }
     /* another seed: other runs */
     args[8] = "43";
     run(&r, args);
@@ -660,6 +675,27 @@ static void case_usage(void)
     CHECK_INT(r.status, 2);
     CHECK_HAS(r.err, "expected NAME=LO:HI:N");
     result_free(&r);
+    /* a runs file naming a column twice, the twins side by side, and
+     * apart */
+    {
+        static const char *const side[] = {"k,k\n", "1,2\n", NULL};
+        static const char *const apart[] = {"k,m,k\n", "1,1,2\n", NULL};
+        char runs[300];
+        const char *dup[] = {"spring-pendulum", "--runs", runs, "--out",
+                             "o.csv", NULL};
+        scratch(runs, sizeof runs, "dup.csv");
+        write_runs(runs, side);
+        run(&r, dup);
+        CHECK_INT(r.status, 2);
+        CHECK_HAS(r.err, "the runs name 'k' twice");
+        result_free(&r);
+        write_runs(runs, apart);
+        run(&r, dup);
+        CHECK_INT(r.status, 2);
+        CHECK_HAS(r.err, "the runs name 'k' twice");
+        result_free(&r);
+        unlink(runs);
+    }
 }
 
 /* The driven crank, whose motor reads the time, three times alike on one
