@@ -211,6 +211,7 @@ struct eom_system {
                          for one thread at a time) */
     int n, m, np, nprobe;
     int mh, mv;       /* holonomic and velocity rows, m = mh + mv */
+    size_t ws_bytes;  /* the tape workspaces made so far (memory_fit.c) */
     bool has_tv, has_R, has_Q;
     bool reads_time;  /* the L, E, R, phi or psi tape reads the time */
     double time;      /* the time of the calls that take no t */
@@ -562,6 +563,14 @@ int eom__fail(eom_system *s, int status, const char *fmt, ...)
     ;
 /* Map a libtape status to libeom's, with a message naming what. */
 int eom__tape_status(eom_system *s, int tp_status, const char *what);
+/* EOM_OK when a workspace of tape t for dirs directions fits, with the
+ * system's workspaces made before, in the machine's memory (and counts
+ * it); else EOM_ERR_NOMEM with a message giving the size it needs and the
+ * memory there is (memory_fit.c). Call it before tp_ws_new. */
+int eom__workspace_fits(eom_system *s, const tp_tape *t, int dirs,
+                        const char *what);
+/* The same for bytes of the system's own arrays (alloc_arrays). */
+int eom__arrays_fit(eom_system *s, double bytes);
 /* Every value finite? Inline: every evaluation checks its state and its
  * accelerations, a few values each, where a call cost as much as the
  * test. The exponent field of an infinity or a NaN, all ones, carries

@@ -314,6 +314,9 @@ static int record_once(eom_system *s, const eom_model *m, eom_tape *et,
     } else if ((rc = tp_recorder_finish(c.r, &et->tape)) != TP_OK) {
         rc = eom__fail(s, rc == TP_ERR_NOMEM ? EOM_ERR_NOMEM : EOM_ERR_RECORD,
                        "recording the %s: %s", what, tp_rec_errmsg(c.r));
+    } else if ((rc = eom__workspace_fits(s, et->tape, dirs, what)) !=
+               EOM_OK) {
+        /* refused before allocating: the message gives the sizes */
     } else if ((rc = tp_ws_new(&et->ws, et->tape, dirs, NULL)) != TP_OK) {
         rc = eom__fail(s, EOM_ERR_NOMEM, "%s workspace: %s", what,
                        tp_strerror(rc));
@@ -512,6 +515,13 @@ static eom_named *copy_named(const eom_named *v, int n)
 static int alloc_arrays(eom_system *s)
 {
     const size_t n = (size_t)s->n, m = (size_t)s->m, mm = m ? m : 1;
+    /* the n x n and m x n arrays below, in doubles (those of size n or m
+     * are a rounding error beside them) */
+    const double dense = 2.0 * (double)n * (double)n +
+                         (double)mm * (3.0 * (double)n + (double)mm + 1.0);
+    int rc;
+    if ((rc = eom__arrays_fit(s, dense * sizeof(double))) != EOM_OK)
+        return rc;
     s->pval = calloc(s->np ? (size_t)s->np : 1, sizeof(double));
     s->M = calloc(n * n, sizeof(double));
     s->Mf = calloc(n * n, sizeof(double));
@@ -658,13 +668,16 @@ int eom_system_new(eom_system **out, const eom_model *m, char *errmsg,
         rc = eom__fail(s, EOM_ERR_NOMEM, "out of memory");
         goto fail;
     }
+    /* the Lagrangian's tape, and the size of its workspace checked, before
+     * the n x n matrices: a model too large for the machine is refused
+     * before anything of its size is allocated (memory_fit.c) */
+    if ((rc = record(s, m, &s->tL, EOM_ROLE_STATE, body_L, "Lagrangian",
+                     s->n, true)) != EOM_OK)
+        goto fail;
     if ((rc = alloc_arrays(s)) != EOM_OK)
         goto fail;
     for (k = 0; k < s->np; k++)
         s->pval[k] = s->params[k].v0;
-    if ((rc = record(s, m, &s->tL, EOM_ROLE_STATE, body_L, "Lagrangian",
-                     s->n, true)) != EOM_OK)
-        goto fail;
     if ((s->has_tv || s->nprobe > 0) &&
         ((rc = record(s, m, &s->tE, EOM_ROLE_STATE, body_E, "energies", 1,
                       false)) != EOM_OK ||

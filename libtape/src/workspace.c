@@ -2,6 +2,7 @@
  * workspace is made so that no sweep allocates. The tape itself is never
  * written by a replay; everything mutable lives here. */
 #include <math.h>
+#include <stdint.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
@@ -30,6 +31,30 @@ static void ws_release(tp_ws *ws)
         tp__free(&al, ws->g, T->n_indep * sizeof(double));
     }
     tp__free(&al, ws, sizeof *ws);
+}
+
+/* a + b, or SIZE_MAX on overflow. */
+static size_t addsz(size_t a, size_t b)
+{
+    return a > SIZE_MAX - b ? SIZE_MAX : a + b;
+}
+
+size_t tp_ws_bytes(const tp_tape *t, int max_dirs)
+{
+    size_t n, P, b;
+    if (!t || max_dirs < 1)
+        return 0;
+    n = t->n_ops;
+    P = ((size_t)max_dirs + TP_LANES - 1) / TP_LANES * TP_LANES;
+    /* what tp_ws_new allocates: tan and atan (n x P), hs (n_indep x P),
+     * six arrays of n doubles and anz, the parameters, outputs and
+     * gradient */
+    b = tp__mulsz(tp__mulsz(tp__mulsz(n, P), 2), sizeof(double));
+    b = addsz(b, tp__mulsz(tp__mulsz(t->n_indep, P), sizeof(double)));
+    b = addsz(b, tp__mulsz(n, 5 * sizeof(double) + 1));
+    b = addsz(b, ((size_t)t->n_param + t->n_out + t->n_indep) *
+                         sizeof(double));
+    return addsz(b, sizeof(tp_ws));
 }
 
 int tp_ws_new(tp_ws **out, const tp_tape *t, int max_dirs,

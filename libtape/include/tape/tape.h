@@ -301,6 +301,10 @@ TP_API int tp_tape_jacobian_pattern(const tp_tape *t, int first, int count,
 typedef struct tp_ws tp_ws;
 TP_API int tp_ws_new(tp_ws **out, const tp_tape *t, int max_dirs,
                      const tp_allocator *al);
+/* The bytes tp_ws_new(t, max_dirs) would allocate (SIZE_MAX when that
+ * overflows, 0 for a NULL t or max_dirs < 1): for a caller that refuses,
+ * before allocating, a workspace larger than the machine's memory. */
+TP_API size_t tp_ws_bytes(const tp_tape *t, int max_dirs);
 TP_API void tp_ws_free(tp_ws **ws);
 TP_API const char *tp_ws_errmsg(const tp_ws *ws);
 
