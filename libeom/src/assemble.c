@@ -76,15 +76,6 @@ static void held_list(const assembly *a, char *buf, size_t len)
         snprintf(buf, len, "none");
 }
 
-static void row_name(const eom_system *s, int j, char *buf, size_t len)
-{
-    const char *name = eom_constraint_name(s, j);
-    if (name && name[0])
-        snprintf(buf, len, "'%s'", name);
-    else
-        snprintf(buf, len, "row %d", j + 1);
-}
-
 /* phi = 0 on the free coordinates of a->x. */
 static int positions(assembly *a, double tol, int *iters)
 {
@@ -127,7 +118,7 @@ static int positions(assembly *a, double tol, int *iters)
     eom_residuals(a->s, a->x, a->phi, NULL);
     r = maxabs(a->phi, a->mh, &at);
     held_list(a, held, sizeof held);
-    row_name(a->s, at, row, sizeof row);
+    eom__row_label(a->s, at, row, sizeof row);
     return eom__fail(a->s, EOM_ERR_PROJECTION, "the loop cannot close with "
                      "the coordinates held (%s): the constraint %s stays "
                      "open by %.3g after %d iteration%s (tolerance %.3g); "
@@ -159,7 +150,7 @@ static int rates(assembly *a, double tol)
     if (r <= tol * scale)
         return EOM_OK;
     held_list(a, held, sizeof held);
-    row_name(a->s, at, row, sizeof row);
+    eom__row_label(a->s, at, row, sizeof row);
     return eom__fail(a->s, EOM_ERR_PROJECTION, "the rates cannot satisfy the "
                      "constraints with the rates of %s held: the velocity "
                      "form of %s stays at %.3g (the held rates contradict "

@@ -162,6 +162,15 @@ const char *eom_constraint_name(const eom_system *s, int j)
                : "";
 }
 
+void eom__row_label(const eom_system *s, int j, char *buf, size_t len)
+{
+    const char *name = eom_constraint_name(s, j);
+    if (name && name[0])
+        snprintf(buf, len, "'%s'", name);
+    else
+        snprintf(buf, len, "row %d", j + 1);
+}
+
 int eom_constraint_index(const eom_system *s, const char *name)
 {
     int lo = 0, hi;

@@ -13,16 +13,6 @@
 
 #define LABEL_LEN 160
 
-/* Row j's name for a message: its own, or "row K". */
-static void row_label(const eom_system *s, int j, char *buf, size_t len)
-{
-    const char *name = eom_constraint_name(s, j);
-    if (name && name[0])
-        snprintf(buf, len, "'%s'", name);
-    else
-        snprintf(buf, len, "row %d", j + 1);
-}
-
 /* Append to text (of len, holding *used) what printf would print. */
 static void append(char *text, size_t len, size_t *used, const char *fmt,
                    ...)
@@ -56,7 +46,7 @@ static void describe(const eom_system *s, const int *piv, int r, int k,
     int i, first = 1;
     for (i = 0; i < r; i++)
         big = fmax(big, fabs(c[i]));
-    row_label(s, piv[k], a, sizeof a);
+    eom__row_label(s, piv[k], a, sizeof a);
     append(text, len, used, "%s%s =", *used ? "; " : "", a);
     for (i = 0; i < r; i++) {
         /* back to the unscaled rows: row_k / scale_k = sum c_i row_i /
@@ -64,7 +54,7 @@ static void describe(const eom_system *s, const int *piv, int r, int k,
         const double ci = c[i] * scale[piv[k]] / scale[piv[i]];
         if (fabs(c[i]) <= 1e-8 * big)
             continue;
-        row_label(s, piv[i], b, sizeof b);
+        eom__row_label(s, piv[i], b, sizeof b);
         append(text, len, used, "%s%.6g %s", first ? " " : " + ", ci, b);
         first = 0;
     }

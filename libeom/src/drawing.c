@@ -6,7 +6,6 @@
  * only for the frames that are drawn. */
 #include <math.h>
 #include <stdint.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -32,26 +31,8 @@ static int kind_count(int kind)
     return counts[kind];
 }
 
-static int draw_fail(eom_model *m, int status, const char *fmt, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 3, 4)))
-#endif
-    ;
-
-/* The model's first error is kept, as for every other addition. */
-static int draw_fail(eom_model *m, int status, const char *fmt, ...)
-{
-    if (m->status == EOM_OK) {
-        va_list ap;
-        m->status = status;
-        va_start(ap, fmt);
-        vsnprintf(m->msg, sizeof m->msg, fmt, ap);
-        va_end(ap);
-    }
-    return status;
-}
-
-/* A drawing's name: a C identifier, as a probe's. */
+/* A drawing's name: a C identifier (unlike eom__valid_name, a name
+ * ending in _dot is allowed: a drawing names no rate). */
 static int valid_name(const char *s)
 {
     size_t i;
@@ -74,50 +55,51 @@ int eom_model_add_drawing(eom_model *m, const char *name, int kind,
     if (!m)
         return EOM_ERR_NULL;
     if (!f)
-        return draw_fail(m, EOM_ERR_NULL, "drawing '%s': function is NULL",
-                         name ? name : "(null)");
+        return eom__model_fail(m, EOM_ERR_NULL,
+                               "drawing '%s': function is NULL",
+                               name ? name : "(null)");
     if (!valid_name(name))
-        return draw_fail(m, EOM_ERR_NAME,
-                         "drawing name '%s' is not a C identifier",
-                         name ? name : "(null)");
+        return eom__model_fail(m, EOM_ERR_NAME,
+                               "drawing name '%s' is not a C identifier",
+                               name ? name : "(null)");
     if (!eom_draw_kind_name(kind))
-        return draw_fail(m, EOM_ERR_ARG, "drawing '%s': unknown kind %d",
-                         name, kind);
+        return eom__model_fail(m, EOM_ERR_ARG, "drawing '%s': unknown kind %d",
+                               name, kind);
     if (kind == EOM_DRAW_POLYLINE ? count < 6 || count % 3 != 0
                                   : count != kind_count(kind))
-        return draw_fail(m, EOM_ERR_ARG,
-                         "drawing '%s': a %s has %s values, not %d", name,
-                         eom_draw_kind_name(kind),
-                         kind == EOM_DRAW_POLYLINE ? "3 per point, at least 6"
-                         : kind == EOM_DRAW_POINT  ? "3"
-                                                   : "a fixed number of",
-                         count);
+        return eom__model_fail(
+            m, EOM_ERR_ARG, "drawing '%s': a %s has %s values, not %d", name,
+            eom_draw_kind_name(kind),
+            kind == EOM_DRAW_POLYLINE ? "3 per point, at least 6"
+            : kind == EOM_DRAW_POINT  ? "3"
+                                      : "a fixed number of",
+            count);
     if ((flags & ~EOM_DRAW_TRAIL) != 0 ||
         ((flags & EOM_DRAW_TRAIL) && kind != EOM_DRAW_POINT))
-        return draw_fail(m, EOM_ERR_ARG,
-                         "drawing '%s': only a point has a trail", name);
+        return eom__model_fail(m, EOM_ERR_ARG,
+                               "drawing '%s': only a point has a trail", name);
     if (rgb > 0xffffffu || count > 1000000 - m->n_draw_values)
-        return draw_fail(m, EOM_ERR_ARG, "drawing '%s': %s", name,
-                         rgb > 0xffffffu ? "the colour is not 0xRRGGBB"
-                                         : "more than 1000000 values");
+        return eom__model_fail(m, EOM_ERR_ARG, "drawing '%s': %s", name,
+                               rgb > 0xffffffu ? "the colour is not 0xRRGGBB"
+                                               : "more than 1000000 values");
     /* names are few next to the values they draw; a drawing family of
      * thousands checks each new name against its own kind's list */
     for (k = 0; k < m->n_draws; k++)
         if (strcmp(m->draws[k].name, name) == 0)
-            return draw_fail(m, EOM_ERR_NAME,
-                             "drawing name '%s' is already used", name);
+            return eom__model_fail(m, EOM_ERR_NAME,
+                                   "drawing name '%s' is already used", name);
     if (m->n_draws == m->cap_draws) {
         int nc = m->cap_draws ? 2 * m->cap_draws : 8;
         eom_drawing_def *nv = realloc(m->draws, (size_t)nc * sizeof *nv);
         if (!nv)
-            return draw_fail(m, EOM_ERR_NOMEM, "out of memory");
+            return eom__model_fail(m, EOM_ERR_NOMEM, "out of memory");
         m->draws = nv;
         m->cap_draws = nc;
     }
     d = &m->draws[m->n_draws];
     memset(d, 0, sizeof *d);
     if (!(d->name = malloc(strlen(name) + 1)))
-        return draw_fail(m, EOM_ERR_NOMEM, "out of memory");
+        return eom__model_fail(m, EOM_ERR_NOMEM, "out of memory");
     strcpy(d->name, name);
     d->kind = kind;
     d->count = count;

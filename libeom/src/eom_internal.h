@@ -490,6 +490,9 @@ bool eom__valid_name(const char *s);
 int eom__constraint_names(eom_system *s, const eom_model *m);
 void eom__constraint_names_free(eom_shared *sh, int m);
 void eom__free_names(char **names, int count);
+/* Constraint row j for a message: 'NAME' when named, else "row K"
+ * (from 1). */
+void eom__row_label(const eom_system *s, int j, char *buf, size_t len);
 /* energy.c: s->lam_param from the E tape (after it is recorded or
  * cloned). */
 int eom__probe_multipliers(eom_system *s);
