@@ -166,6 +166,7 @@ static int plot(const eom_system *s, int k, const char *csv, int nr,
     eom_plot_place p;
     char err[4096], path[8192], script[2048];
     const char *unit = eom_param_unit(s, k);
+    eom_csv_writer *w = NULL;
     FILE *f;
     if (eom_plot_place_of(&p, csv, err, sizeof err) != 0 ||
         eom_plot_place_path(&p, "eigenvalues.gp", path, sizeof path) != 0) {
@@ -173,11 +174,13 @@ static int plot(const eom_system *s, int k, const char *csv, int nr,
                 err[0] ? err : "file names too long");
         return 1;
     }
-    if (!(f = fopen(path, "w"))) {
-        fprintf(stderr, "eom-run: %s: plots: cannot write '%s'\n", label,
-                path);
+    /* created exclusively and put in place whole; a symbolic link at the
+     * script's name is replaced, never followed */
+    if (eom_csv_writer_open_text(&w, path, err, sizeof err) != 0) {
+        fprintf(stderr, "eom-run: %s: plots: %s\n", label, err);
         return 1;
     }
+    f = eom_csv_writer_stream(w);
     fprintf(f, "# eigenvalues of %s against %s; rerun with: gnuplot "
                "%s-eigenvalues.gp\n"
                "set datafile separator ','\n"
@@ -206,9 +209,8 @@ static int plot(const eom_system *s, int k, const char *csv, int nr,
                "lc rgb '#d62728' title (j == 1 ? 'imaginary part (> 0)' "
                ": '')\n"
                "}\n");
-    if (fclose(f) != 0) {
-        fprintf(stderr, "eom-run: %s: plots: cannot write '%s'\n", label,
-                path);
+    if (eom_csv_writer_close(&w, err, sizeof err) != 0) {
+        fprintf(stderr, "eom-run: %s: plots: %s\n", label, err);
         return 1;
     }
     snprintf(script, sizeof script, "%s-eigenvalues.gp", p.prefix);

@@ -5,7 +5,6 @@
  * terminals (pngcairo, svg) around the plot itself. */
 #include "chain_plot_scripts.h"
 
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -40,27 +39,23 @@ static int snapshot_rows(int nrows, int *rows)
     return n;
 }
 
-static FILE *open_out(const char *path, char *err, size_t errlen)
+/* A script or data file through a text writer (eom_csv_writer_open_text:
+ * created exclusively beside path and renamed onto it whole; a symbolic
+ * link at path is replaced, never followed): its stream, or NULL with a
+ * message. */
+static FILE *open_out(const char *path, eom_csv_writer **w, char *err,
+                      size_t errlen)
 {
-    FILE *f = fopen(path, "w");
-    if (!f)
-        snprintf(err, errlen, "cannot open '%s' for writing: %s", path,
-                 strerror(errno));
-    errno = 0;
-    return f;
+    if (eom_csv_writer_open_text(w, path, err, errlen) != 0)
+        return NULL;
+    return eom_csv_writer_stream(*w);
 }
 
-static int close_out(FILE *f, const char *path, char *err, size_t errlen)
+/* Put the file in place: 0, or -1 with a message (a write that failed
+ * leaves path as it was). */
+static int close_out(eom_csv_writer **w, char *err, size_t errlen)
 {
-    int bad = ferror(f), e = errno;
-    if (fclose(f) != 0 && !bad) {
-        bad = 1;
-        e = errno;
-    }
-    if (bad)
-        snprintf(err, errlen, "cannot write to '%s': %s", path,
-                 e ? strerror(e) : "write error");
-    return bad ? -1 : 0;
+    return eom_csv_writer_close(w, err, errlen) != 0 ? -1 : 0;
 }
 
 int chain_snapshots_dat(const char *path, const plot_job *j, char *err,
@@ -70,6 +65,7 @@ int chain_snapshots_dat(const char *path, const plot_job *j, char *err,
     const int tcol = eom_csv_table_col(j->t, "t");
     int rows[CHAIN_PLOT_SNAPSHOTS], nsnap, k, l, p, maxnp = 2;
     double *pts, root[2];
+    eom_csv_writer *w = NULL;
     FILE *f;
     for (l = 0; l < c->links; l++)
         if (chain_shape_npoints(c, l) > maxnp)
@@ -79,7 +75,7 @@ int chain_snapshots_dat(const char *path, const plot_job *j, char *err,
         snprintf(err, errlen, "out of memory");
         return -1;
     }
-    if (!(f = open_out(path, err, errlen))) {
+    if (!(f = open_out(path, &w, err, errlen))) {
         free(pts);
         return -1;
     }
@@ -111,7 +107,7 @@ int chain_snapshots_dat(const char *path, const plot_job *j, char *err,
         }
     }
     free(pts);
-    return close_out(f, path, err, errlen);
+    return close_out(&w, err, errlen);
 }
 
 /* The frame of every script up to the plot: what it is, its input and
@@ -315,7 +311,8 @@ static void residuals(FILE *f, const plot_job *j)
 int chain_plot_script(const char *path, const char *which,
                       const plot_job *j, char *err, size_t errlen)
 {
-    FILE *f = open_out(path, err, errlen);
+    eom_csv_writer *w = NULL;
+    FILE *f = open_out(path, &w, err, errlen);
     if (!f)
         return -1;
     if (strcmp(which, "energy") == 0)
@@ -327,5 +324,5 @@ int chain_plot_script(const char *path, const char *which,
     else
         residuals(f, j);
     tail(f);
-    return close_out(f, path, err, errlen);
+    return close_out(&w, err, errlen);
 }

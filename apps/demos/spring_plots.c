@@ -66,17 +66,21 @@ static void frame_begin(FILE *f, const eom_plot_place *p, const char *name,
 static int write_script(const eom_plot_place *p, const char *name,
                         const cols *c, char *err, size_t errlen)
 {
-    char path[8192];
+    char path[8192], msg[1024];
+    eom_csv_writer *w = NULL;
     FILE *f;
     if (eom_plot_place_path(p, name, path, sizeof path - 4) != 0) {
         snprintf(err, errlen, "plots: file names too long");
         return -1;
     }
     strcat(path, ".gp");
-    if (!(f = fopen(path, "w"))) {
-        snprintf(err, errlen, "plots: cannot write '%s'", path);
+    /* created exclusively and put in place whole; a symbolic link at the
+     * script's name is replaced, never followed */
+    if (eom_csv_writer_open_text(&w, path, msg, sizeof msg) != 0) {
+        snprintf(err, errlen, "plots: %s", msg);
         return -1;
     }
+    f = eom_csv_writer_stream(w);
     if (strcmp(name, "energy") == 0) {
         frame_begin(f, p, name, "energies over time", "900,700", "");
         fprintf(f,
@@ -112,8 +116,8 @@ static int write_script(const eom_plot_place *p, const char *name,
                 "with lines title 'bob'\n}\n",
                 c->r, c->theta, c->r, c->theta);
     }
-    if (fclose(f) != 0) {
-        snprintf(err, errlen, "plots: cannot write '%s'", path);
+    if (eom_csv_writer_close(&w, msg, sizeof msg) != 0) {
+        snprintf(err, errlen, "plots: %s", msg);
         return -1;
     }
     return 0;

@@ -13,6 +13,13 @@
  * device such as /dev/null, a FIFO) is written directly, as before.
  * A path that is a symbolic link to a regular file is replaced through
  * the link: the file it points to receives the new content.
+ *
+ * A text writer (eom_csv_writer_open_text: plot scripts and their data)
+ * is written the same way with two differences: a symbolic link at PATH
+ * is never followed (the rename replaces the link itself, the file it
+ * names is untouched), a PATH that is neither a regular file nor a link
+ * (a FIFO, a device, a folder) is refused; and after a failure its
+ * temporary file is removed, not kept as PATH.partial.
  */
 #define _POSIX_C_SOURCE 200809L
 #define _DEFAULT_SOURCE
@@ -41,6 +48,7 @@ struct eom_csv_writer {
     char *target; /* the file replaced at the end (owned; NULL: none) */
     char *tmp;    /* the temporary file the rows go to (owned) */
     char *where;  /* "'PATH'" or "standard output", for messages (owned) */
+    int text;     /* opened by eom_csv_writer_open_text: no PATH.partial */
 };
 
 static char *dup_str(const char *s)
@@ -222,6 +230,58 @@ int eom_csv_writer_open(eom_csv_writer **out, const char *path, char *err,
     return 0;
 }
 
+int eom_csv_writer_open_text(eom_csv_writer **out, const char *path,
+                             char *err, size_t errlen)
+{
+    eom_csv_writer *w;
+    struct stat lst;
+    int mode = -1;
+    *out = NULL;
+    if (!path) {
+        snprintf(err, errlen, "eom_csv_writer_open_text: the path is NULL");
+        return -1;
+    }
+    if (lstat(path, &lst) == 0) {
+        if (S_ISREG(lst.st_mode))
+            mode = (int)(lst.st_mode & 0777); /* keeps its permissions */
+        else if (!S_ISLNK(lst.st_mode)) {
+            /* a FIFO would hang the writer, a device is nothing to
+             * replace */
+            snprintf(err, errlen, "cannot write '%s': it exists and is not "
+                     "a regular file", path);
+            return -1;
+        }
+    }
+    w = calloc(1, sizeof *w);
+    if (!w || !(w->target = dup_str(path)) ||
+        !(w->where = concat("'", path))) {
+        if (w)
+            free_writer(w);
+        snprintf(err, errlen, "out of memory");
+        return -1;
+    }
+    w->owned = 1;
+    w->text = 1;
+    {
+        char *q = concat(w->where, "'");
+        free(w->where);
+        w->where = q;
+    }
+    if (!w->where) {
+        free_writer(w);
+        snprintf(err, errlen, "out of memory");
+        return -1;
+    }
+    if (open_tmp(w, mode, path, err, errlen) != 0) {
+        free_writer(w);
+        return -1;
+    }
+    *out = w;
+    return 0;
+}
+
+FILE *eom_csv_writer_stream(eom_csv_writer *w) { return w ? w->f : NULL; }
+
 int eom_csv_writer_header(eom_csv_writer *w, char *const *names, int count,
                           char *err, size_t errlen)
 {
@@ -295,6 +355,15 @@ static int finish(eom_csv_writer **wp, int keep, char *err, size_t errlen)
                      w->tmp);
             rc = -1;
         }
+    } else if (w->tmp && w->text) {
+        /* a plot script or its data: nothing worth keeping half-written */
+        unlink(w->tmp);
+        if (rc != 0)
+            snprintf(err, errlen, "%s; %s is unchanged", first, w->where);
+        else
+            snprintf(err, errlen, "the output was discarded: %s is "
+                     "unchanged", w->where);
+        rc = -1;
     } else if (w->tmp) {
         char *partial = concat(w->target, ".partial");
         const char *kept = w->tmp;

@@ -38,27 +38,42 @@ static void title(FILE *f, const char *s)
     fputc('\'', f);
 }
 
-static FILE *open_script(const eom_plot_place *p, const char *name, char *path,
-                         size_t len, char *err, size_t errlen)
+/* Open the script PREFIX-name.gp beside the CSV through a text writer
+ * (eom_csv_writer_open_text: created exclusively, put in place whole, a
+ * symbolic link at its name replaced rather than followed): the stream,
+ * or NULL with a message. */
+static FILE *open_script(const eom_plot_place *p, const char *name,
+                         eom_csv_writer **w, char *err, size_t errlen)
 {
-    FILE *f;
-    if (eom_plot_place_path(p, name, path, len - 4) != 0) {
+    char path[8192], msg[1024];
+    if (eom_plot_place_path(p, name, path, sizeof path - 4) != 0) {
         snprintf(err, errlen, "plots: file names too long");
         return NULL;
     }
     strcat(path, ".gp");
-    if (!(f = fopen(path, "w")))
-        snprintf(err, errlen, "plots: cannot write '%s'", path);
-    return f;
+    if (eom_csv_writer_open_text(w, path, msg, sizeof msg) != 0) {
+        snprintf(err, errlen, "plots: %s", msg);
+        return NULL;
+    }
+    return eom_csv_writer_stream(*w);
 }
 
-static int close_script(FILE *f, const char *path, char *err, size_t errlen)
+/* Put the script in place: 0, or -1 with a message. */
+static int close_script(eom_csv_writer **w, char *err, size_t errlen)
 {
-    if (fclose(f) != 0) {
-        snprintf(err, errlen, "plots: cannot write '%s'", path);
+    char msg[1024];
+    if (eom_csv_writer_close(w, msg, sizeof msg) != 0) {
+        snprintf(err, errlen, "plots: %s", msg);
         return -1;
     }
     return 0;
+}
+
+/* Drop a script left unfinished (its temporary file is removed). */
+static void drop_script(eom_csv_writer **w)
+{
+    char msg[1024];
+    (void)eom_csv_writer_discard(w, msg, sizeof msg);
 }
 
 /* Coordinates, one panel per distinct unit (at most 4; the rest share the
@@ -70,7 +85,7 @@ static int coordinates(const eom_plot_place *p, const char *label,
     const int n = eom_system_ncoords(s), t = eom_csv_table_col(tab, "t") + 1;
     const char *units[4];
     int nu = 0, i, u, *group = calloc((size_t)n + 1, sizeof(int));
-    char path[8192];
+    eom_csv_writer *w = NULL;
     FILE *f;
     if (!group) {
         snprintf(err, errlen, "out of memory");
@@ -84,8 +99,7 @@ static int coordinates(const eom_plot_place *p, const char *label,
             units[nu++] = un;
         group[i] = u < nu ? u : nu - 1;
     }
-    if (!(f = open_script(p, "coordinates", path, sizeof path, err,
-                          errlen))) {
+    if (!(f = open_script(p, "coordinates", &w, err, errlen))) {
         free(group);
         return -1;
     }
@@ -114,7 +128,7 @@ static int coordinates(const eom_plot_place *p, const char *label,
     }
     fprintf(f, "  unset multiplot\n}\n");
     free(group);
-    return close_script(f, path, err, errlen);
+    return close_script(&w, err, errlen);
 }
 
 static int energy(const eom_plot_place *p, const char *label,
@@ -126,8 +140,8 @@ static int energy(const eom_plot_place *p, const char *label,
     const int V = eom_csv_table_col(tab, "V") + 1;
     const int E = eom_csv_table_col(tab, "E") + 1;
     const int W = eom_csv_table_col(tab, "W") + 1;
-    char path[8192];
-    FILE *f = open_script(p, "energy", path, sizeof path, err, errlen);
+    eom_csv_writer *w = NULL;
+    FILE *f = open_script(p, "energy", &w, err, errlen);
     if (!f)
         return -1;
     begin(f, p, "energy", label, "energies over time", "900,700");
@@ -149,7 +163,7 @@ static int energy(const eom_plot_place *p, const char *label,
                "title 'E + W - E(0)'\n"
                "  unset multiplot\n}\n",
             t, E, t, W, t, E, W, E, W, t, E, W);
-    return close_script(f, path, err, errlen);
+    return close_script(&w, err, errlen);
 }
 
 static int residuals(const eom_plot_place *p, const char *label,
@@ -158,9 +172,9 @@ static int residuals(const eom_plot_place *p, const char *label,
 {
     const int m = eom_system_nconstraints(s);
     const int t = eom_csv_table_col(tab, "t") + 1;
-    char path[8192];
+    eom_csv_writer *w = NULL;
     int k, first = 1;
-    FILE *f = open_script(p, "residuals", path, sizeof path, err, errlen);
+    FILE *f = open_script(p, "residuals", &w, err, errlen);
     if (!f)
         return -1;
     begin(f, p, "residuals", label, "the constraint residuals", "900,600");
@@ -176,7 +190,7 @@ static int residuals(const eom_plot_place *p, const char *label,
         if (!phi || !phidot) {
             free(phi);
             free(phidot);
-            fclose(f);
+            drop_script(&w);
             snprintf(err, errlen, "plots: out of memory");
             return -1;
         }
@@ -195,7 +209,7 @@ static int residuals(const eom_plot_place *p, const char *label,
         free(phidot);
     }
     fprintf(f, "\n}\n");
-    return close_script(f, path, err, errlen);
+    return close_script(&w, err, errlen);
 }
 
 /* The multipliers, when the CSV has them (--columns multipliers): the
@@ -206,9 +220,9 @@ static int multipliers(const eom_plot_place *p, const char *label,
 {
     const int m = eom_system_nconstraints(s);
     const int t = eom_csv_table_col(tab, "t") + 1;
-    char path[8192];
+    eom_csv_writer *w = NULL;
     int k;
-    FILE *f = open_script(p, "multipliers", path, sizeof path, err, errlen);
+    FILE *f = open_script(p, "multipliers", &w, err, errlen);
     if (!f)
         return -1;
     begin(f, p, "multipliers", label, "the Lagrange multipliers",
@@ -219,7 +233,7 @@ static int multipliers(const eom_plot_place *p, const char *label,
     for (k = 0; k < m; k++) {
         char *col = eom_run_constraint_column(s, "lambda", k);
         if (!col) {
-            fclose(f);
+            drop_script(&w);
             snprintf(err, errlen, "plots: out of memory");
             return -1;
         }
@@ -230,7 +244,7 @@ static int multipliers(const eom_plot_place *p, const char *label,
         free(col);
     }
     fprintf(f, "\n}\n");
-    return close_script(f, path, err, errlen);
+    return close_script(&w, err, errlen);
 }
 
 /* 1 if the CSV holds the multipliers' columns. */
@@ -251,9 +265,9 @@ static int probes(const eom_plot_place *p, const char *label,
                   size_t errlen)
 {
     const int np = eom_system_nprobes(s), t = eom_csv_table_col(tab, "t") + 1;
-    char path[8192];
+    eom_csv_writer *w = NULL;
     int k;
-    FILE *f = open_script(p, "probes", path, sizeof path, err, errlen);
+    FILE *f = open_script(p, "probes", &w, err, errlen);
     if (!f)
         return -1;
     begin(f, p, "probes", label, "the probes over time", "900,600");
@@ -266,7 +280,7 @@ static int probes(const eom_plot_place *p, const char *label,
         title(f, eom_probe_name(s, k));
     }
     fprintf(f, "\n}\n");
-    return close_script(f, path, err, errlen);
+    return close_script(&w, err, errlen);
 }
 
 int eom_run_plots(const char *label, const eom_system *s,

@@ -5,12 +5,15 @@
  * taken here with eom_integ_advance and with energies equal to the
  * hand-written T and V, and the errors of the writer and the reader; a
  * model that reads the time checked at the start of a run (t = 0) and
- * in a row (the row's time), whatever time its system was left at. */
+ * in a row (the row's time), whatever time its system was left at; the
+ * text writer for plot scripts (eom_csv_writer_open_text). */
 #define _POSIX_C_SOURCE 200809L
+#include <dirent.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "check.h"
@@ -23,6 +26,35 @@ static const char spring[] =
     "coord theta = 0.5 [rad]\n"
     "T = 1/2*m*(r_dot^2 + r^2*theta_dot^2)\n"
     "V = 1/2*k*(r - r0)^2 + m*g*(r0 - r*cos(theta))\n";
+
+/* The whole of a small text file, or NULL. */
+static char *read_text(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    char *buf = calloc(4096, 1);
+    if (f && buf)
+        buf[fread(buf, 1, 4095, f)] = '\0';
+    if (f)
+        fclose(f);
+    if (!f) {
+        free(buf);
+        return NULL;
+    }
+    return buf;
+}
+
+/* The entries of dir other than . and .. */
+static int count_entries(const char *dir)
+{
+    DIR *d = opendir(dir);
+    struct dirent *e;
+    int n = 0;
+    while (d && (e = readdir(d)) != NULL)
+        n += strcmp(e->d_name, ".") != 0 && strcmp(e->d_name, "..") != 0;
+    if (d)
+        closedir(d);
+    return n;
+}
 
 static void numbers(void)
 {
@@ -276,6 +308,63 @@ static void verdict(void)
     CHECK_INT(v.healthy, 1);
 }
 
+/* The text writer (eom_csv_writer_open_text): a new file, an existing
+ * one replaced with its permissions kept, a discarded one left as it was
+ * with no PATH.partial and no temporary, a link replaced and its target
+ * untouched, a folder and NULL refused. */
+static void text_writer(const char *dir)
+{
+    char path[256], link[256], partial[300], msg[512], *text;
+    eom_csv_writer *w = NULL;
+    struct stat st;
+    snprintf(path, sizeof path, "%s/script.gp", dir);
+    snprintf(link, sizeof link, "%s/link.gp", dir);
+    snprintf(partial, sizeof partial, "%s.partial", path);
+    CHECK(eom_csv_writer_open_text(&w, path, msg, sizeof msg) == 0);
+    CHECK(access(path, F_OK) != 0); /* nothing at PATH until the close */
+    fprintf(eom_csv_writer_stream(w), "first %d\n", 1);
+    CHECK(eom_csv_writer_close(&w, msg, sizeof msg) == 0 && w == NULL);
+    text = read_text(path);
+    CHECK(text && strcmp(text, "first 1\n") == 0);
+    free(text);
+    CHECK(chmod(path, 0640) == 0);
+    CHECK(eom_csv_writer_open_text(&w, path, msg, sizeof msg) == 0);
+    fputs("second\n", eom_csv_writer_stream(w));
+    CHECK(eom_csv_writer_close(&w, msg, sizeof msg) == 0);
+    text = read_text(path);
+    CHECK(text && strcmp(text, "second\n") == 0);
+    free(text);
+    CHECK(stat(path, &st) == 0 && (st.st_mode & 0777) == 0640);
+    /* discarded: PATH as it was, nothing else left */
+    CHECK(eom_csv_writer_open_text(&w, path, msg, sizeof msg) == 0);
+    fputs("never\n", eom_csv_writer_stream(w));
+    CHECK(eom_csv_writer_discard(&w, msg, sizeof msg) == -1 && w == NULL);
+    CHECK(strstr(msg, "is unchanged") != NULL);
+    text = read_text(path);
+    CHECK(text && strcmp(text, "second\n") == 0);
+    free(text);
+    CHECK(access(partial, F_OK) != 0);
+    CHECK(count_entries(dir) == 1);
+    /* a link: replaced by the file, the file it named untouched */
+    CHECK(symlink(path, link) == 0);
+    CHECK(eom_csv_writer_open_text(&w, link, msg, sizeof msg) == 0);
+    fputs("through\n", eom_csv_writer_stream(w));
+    CHECK(eom_csv_writer_close(&w, msg, sizeof msg) == 0);
+    CHECK(lstat(link, &st) == 0 && S_ISREG(st.st_mode));
+    text = read_text(path);
+    CHECK(text && strcmp(text, "second\n") == 0);
+    free(text);
+    /* not files */
+    CHECK(eom_csv_writer_open_text(&w, dir, msg, sizeof msg) == -1 &&
+          w == NULL);
+    CHECK(strstr(msg, "not a regular file") != NULL);
+    CHECK(eom_csv_writer_open_text(&w, NULL, msg, sizeof msg) == -1);
+    CHECK(eom_csv_writer_stream(NULL) == NULL);
+    CHECK(count_entries(dir) == 2);
+    unlink(link);
+    unlink(path);
+}
+
 int main(void)
 {
     char dir[] = "/tmp/test_run_api.XXXXXX";
@@ -288,6 +377,7 @@ int main(void)
     run_spring(dir);
     timed_rows();
     verdict();
+    text_writer(dir);
     rmdir(dir);
     CHECK_DONE();
 }

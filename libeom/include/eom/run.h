@@ -25,6 +25,7 @@
 
 #include <signal.h>
 #include <stddef.h>
+#include <stdio.h>
 
 #include "eom/eom.h"
 
@@ -104,6 +105,26 @@ EOM_API int eom_csv_writer_close(eom_csv_writer **w, char *err,
  * *w becomes NULL; NULL-safe. */
 EOM_API int eom_csv_writer_discard(eom_csv_writer **w, char *err,
                                    size_t errlen);
+
+/* ---- whole text files (plot scripts and their data) -------------------- */
+
+/* A writer for a file that is not a CSV table (a gnuplot script, the data
+ * it reads): write it through eom_csv_writer_stream, then put it in place
+ * with eom_csv_writer_close (or drop it with eom_csv_writer_discard). It
+ * is written like a CSV (a new file PATH.tmp-XXXXXX beside it, created
+ * exclusively and never through a symbolic link, synced and renamed onto
+ * PATH at the close), with these differences: a symbolic link at path is
+ * never followed (the link itself is replaced by the new file; the file
+ * it named is untouched); a path that exists and is neither a regular
+ * file nor a symbolic link (a FIFO, a device, a folder) is refused; after
+ * a failed write or a discard the temporary file is removed (no
+ * PATH.partial) and PATH is as it was. path must not be NULL. */
+EOM_API int eom_csv_writer_open_text(eom_csv_writer **out, const char *path,
+                                     char *err, size_t errlen);
+/* The stream w writes to (borrowed: closed by eom_csv_writer_close or
+ * _discard); NULL when w is NULL. Every write to it is checked at the
+ * close. */
+EOM_API FILE *eom_csv_writer_stream(eom_csv_writer *w);
 
 /* ---- the CSV contract (docs/csv.md) ------------------------------------ */
 
