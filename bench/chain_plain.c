@@ -10,15 +10,14 @@
 
 static const double pi = 3.14159265358979323846;
 
-void dpotrf_(const char *uplo, const int *n, double *a, const int *lda,
-             int *info, size_t uplo_len);
-void dpotrs_(const char *uplo, const int *n, const int *nrhs,
-             const double *a, const int *lda, double *b, const int *ldb,
-             int *info, size_t uplo_len);
+/* libeom's blocked factor (libeom/src/cholesky_blocked.c, compiled into
+ * the bench: it includes no header of libeom's); in place when A is M. */
+int eom__potrf_blocked(int n, const double *M, double *A);
 
-/* The same split as libeom's (libeom/src/rhs.c, cholesky_columns.c): up
- * to SMALL_CHOLESKY the Cholesky is plain loops, up to COLUMN_CHOLESKY
- * loops by columns, above it LAPACK's, so that "times the hand-coded
+/* The same split as libeom's (libeom/src/rhs.c, cholesky_columns.c,
+ * cholesky_blocked.c): up to SMALL_CHOLESKY the Cholesky is plain loops,
+ * up to COLUMN_CHOLESKY loops by columns, above it the blocked factor
+ * and the column loops' solve, so that "times the hand-coded
  * right-hand side" means times the physical limit of a Lagrangian route,
  * not times LAPACK's call overhead. */
 #define SMALL_CHOLESKY 16
@@ -61,15 +60,16 @@ static int small_cholesky_solve(int n, double *A, double *b)
 /* As libeom's medium path (libeom/src/cholesky_columns.c, typed again
  * here: the bench uses public headers only): the factor left-looking by
  * unit-stride column updates, the solve by columns, the AVX2 clone
- * beside the generic code. */
+ * beside the generic code. With factored set, A holds the factor
+ * already (the blocked one) and only the solve runs. */
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) &&    \
     defined(__linux__) && !defined(__SANITIZE_THREAD__)
 __attribute__((target_clones("avx2", "default")))
 #endif
-static int column_cholesky_solve(int n, double *A, double *b)
+static int column_cholesky_solve(int n, double *A, double *b, int factored)
 {
     int i, j, k;
-    for (j = 0; j < n; j++) {
+    for (j = factored ? n : 0; j < n; j++) {
         double *restrict cj = A + (size_t)j * (size_t)n, d;
         /* four earlier columns at a time: column j is read and written
          * once for four updates */
@@ -235,14 +235,11 @@ int chain_plain_hand_rhs(chain_hand *h, const double *x, double *qdd)
 
 int chain_plain_solve(int n, double *M, double *b)
 {
-    int info = 0, one = 1;
     if (n <= SMALL_CHOLESKY)
         return small_cholesky_solve(n, M, b) == 0 ? 0 : -1;
     if (n <= COLUMN_CHOLESKY)
-        return column_cholesky_solve(n, M, b) == 0 ? 0 : -1;
-    dpotrf_("L", &n, M, &n, &info, 1);
-    if (info != 0)
+        return column_cholesky_solve(n, M, b, 0) == 0 ? 0 : -1;
+    if (eom__potrf_blocked(n, M, M) != 0)
         return -1;
-    dpotrs_("L", &n, &one, M, &n, b, &n, &info, 1);
-    return info;
+    return column_cholesky_solve(n, M, b, 1);
 }

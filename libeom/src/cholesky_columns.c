@@ -1,6 +1,6 @@
 /* cholesky_columns.c - the Cholesky factor and solve of mass matrices of
  * medium size (above the small, fully unrolled path of rhs.c, up to
- * EOM_COLUMN_CHOLESKY), by columns.
+ * EOM_COLUMN_CHOLESKY), by columns, and the solve with any factor.
  *
  * Debian's reference LAPACK factors these with reference BLAS kernels
  * whose call overhead and non-unit-stride loops cost three to four times
@@ -10,8 +10,9 @@
  * chain's right-hand side. Both leave the factor in the lower triangle,
  * column-major, as LAPACK does, so dpocon reads either; the sums run in
  * another order than LAPACK's (the results differ from it in the last
- * bits). Larger matrices stay with LAPACK, which a tuned BLAS makes fast
- * where the factor's cost grows as n^3.
+ * bits). Larger matrices go to the blocked factor of cholesky_blocked.c,
+ * whose tiles reuse what they load from the cache; the solve here serves
+ * every size above the small path.
  *
  * The factor is left-looking: column j is updated by the earlier columns,
  * four at a time, with unit-stride loops over rows j .. n-1, which

@@ -45,6 +45,7 @@
 
 #include <suitesparse/klu.h>
 
+#include "cholesky_blocked.h"
 #include "eom/eom.h"
 
 #define EOM_MSG_LEN 256
@@ -510,8 +511,8 @@ int eom__evaluate(eom_system *s, double t, const double *x);
 double eom__mass_min_pivot(const eom_system *s, int *k);
 int eom__factor_mass(eom_system *s);
 /* cholesky_columns.c: the Cholesky factor of mass matrices of medium
- * size, up to this n (LAPACK's above): the lower triangle of M (n x n,
- * column-major) read, the factor's written to A's; info = j + 1 at a
+ * size, up to this n (cholesky_blocked.h's above): the lower triangle of
+ * M (n x n, column-major) read, the factor's written to A's; info = j + 1 at a
  * non-positive pivot j, else 0. And the solve of A A^T X = B for nrhs
  * columns of n in place. */
 #define EOM_COLUMN_CHOLESKY 128

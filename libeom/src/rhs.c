@@ -3,7 +3,7 @@
  * range-space method, and the accessors that read one evaluation.
  *
  *   F   = dL/dq - (d2L/dqd dq) qd - d2L/dqd dt - dR/dqd + Q
- *   M   = LL^T                  (LAPACK dpotrf; small n: loops of our own)
+ *   M   = LL^T                  (Cholesky: loops of our own at every n)
  *   Y   = M^-1 C^T,  S = C Y                     (S: KLU, analyzed once,
  *                                                 refactored per call)
  *   S lambda = gamma - C M^-1 F,
@@ -60,8 +60,11 @@
  * 2.2 times for n = 20 (docs/benchmarks.md): its call overhead dominates
  * these sizes (a fifth of a small system's whole right-hand side). Larger
  * ones go to the loops of cholesky_columns.c up to EOM_COLUMN_CHOLESKY and
- * to LAPACK above. All leave the factor in the same place and layout (the
- * lower triangle, column-major), so dpocon reads any of them. */
+ * to the blocked factor of cholesky_blocked.c above (reference LAPACK's
+ * dpotrf took 5 times as long at n = 200, OpenBLAS's 0.9 times:
+ * docs/benchmarks.md section 8); every solve is the column loops'. All
+ * leave the factor in the same place and layout (the lower triangle,
+ * column-major), so dpocon reads any of them. */
 #define EOM_SMALL_CHOLESKY 16
 
 /* The loops of the small path run a few times each: vectorized, their
@@ -187,26 +190,6 @@ static void small_potrs(int n, int nrhs, const double *A, double *B)
         potrs_n(n, nrhs, A, B);
 }
 
-/* LAPACK's path, apart so that the small one sets up none of its
- * arguments (they live in memory, for Fortran). */
-EOM_NOINLINE static int lapack_potrf(int n, const double *M, double *A)
-{
-    int info = 0;
-    memcpy(A, M, (size_t)n * (size_t)n * sizeof(double));
-    dpotrf_("L", &n, A, &n, &info, 1);
-    return info;
-}
-
-EOM_NOINLINE static int lapack_potrs(eom_system *s, double *B, int nrhs)
-{
-    const int n = s->n;
-    int info = 0;
-    dpotrs_("L", &n, &nrhs, s->Mf, &n, B, &n, &info, 1);
-    if (info != 0)
-        return eom__fail(s, EOM_ERR_LINALG, "dpotrs: argument %d", -info);
-    return EOM_OK;
-}
-
 double eom__mass_min_pivot(const eom_system *s, int *k)
 {
     const size_t n = (size_t)s->n;
@@ -230,7 +213,7 @@ int eom__factor_mass(eom_system *s)
     const int info = n <= EOM_SMALL_CHOLESKY ? small_potrf(n, s->M, s->Mf)
                      : n <= EOM_COLUMN_CHOLESKY
                          ? eom__potrf_columns(n, s->M, s->Mf)
-                         : lapack_potrf(n, s->M, s->Mf);
+                         : eom__potrf_blocked(n, s->M, s->Mf);
     int k;
     double r;
     s->mf_valid = info == 0;
@@ -266,8 +249,6 @@ int eom__factor_mass(eom_system *s)
 
 int eom__mass_solve(eom_system *s, double *B, int nrhs)
 {
-    if (s->n > EOM_COLUMN_CHOLESKY)
-        return lapack_potrs(s, B, nrhs);
     if (s->n > EOM_SMALL_CHOLESKY)
         eom__potrs_columns(s->n, nrhs, s->Mf, B);
     else

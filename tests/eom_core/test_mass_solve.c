@@ -1,6 +1,7 @@
 /* test_mass_solve.c - the mass matrix's factor and solve at every size:
  * the unrolled small path (n <= 16), the column path (17 .. 128) and
- * LAPACK's (above), on rigid chains with unequal links.
+ * the blocked one (above: 300 has panels of 48 and a remainder), on rigid
+ * chains with unequal links.
  *
  *   1. eom_rhs's accelerations solve M qdd = dL/dq - h, with M, dL/dq
  *      and h from another evaluation of the same Lagrangian: the
@@ -143,12 +144,13 @@ static void check_singular(int N, int j)
 
 int main(void)
 {
-    static const int sizes[] = {2, 6, 7, 16, 17, 40, 128, 129};
+    static const int sizes[] = {2, 6, 7, 16, 17, 40, 128, 129, 300};
     size_t k;
     for (k = 0; k < sizeof sizes / sizeof sizes[0]; k++)
         check_solve(sizes[k]);
     check_singular(10, 9);
     check_singular(30, 29);
     check_singular(129, 128);
+    check_singular(300, 299);
     CHECK_DONE();
 }
