@@ -1,8 +1,9 @@
 /* bench_peers.c - libeom's right-hand side beside the peers a user might
  * pick instead, on the same rigid chain (eom/chain.h: N links of unequal
- * masses and lengths, gravity, absolute angles), at N = 2, 5, 10, 20, 50:
+ * masses and lengths, gravity, absolute angles), at N = 2, 5, 10, 20,
+ * 50 (or those of --links):
  *
- *   MuJoCo  mj_forward on the chain built as an MJCF model
+ *   MuJoCo  mj_forward on the chain built as a URDF model
  *           (bench/mujoco/mujoco_chain.c; option mujoco, Debian
  *           libmujoco-dev); its relative hinge accelerations converted to
  *           the chain's absolute ones. Its time includes setting qpos and
@@ -16,7 +17,7 @@
  * Each peer's accelerations are checked against eom_rhs's before any
  * time is reported. The gate is the backward error of the peer's
  * accelerations in libeom's equations, |M (qdd_peer - qdd)| / (|M| |qdd|)
- * in max norms: a peer above 1e-13 gets no ratio. The forward difference
+ * in max norms: a peer above GATE(N) gets no ratio. The forward difference
  * |qdd_peer - qdd| / |qdd| is printed beside it, with the mass matrix's
  * condition number (eom_condition) and the forward difference of the
  * hand-coded equations (bench/chain_plain.c, the same coordinates and
@@ -28,12 +29,15 @@
  * rounds.
  *
  * The routes are timed in alternation with eom_rhs, R rounds of
- * calibrated batches; the tables give medians (eom_rhs's over every
+ * calibrated batches, in processor time of the bench's thread; the tables give medians (eom_rhs's over every
  * round). A last table sets what building each route took beside each
  * other: libeom's recording (eom_system_new), SymPy's derivation and the
  * C compiler's work on its output.
  *
- * usage: bench-peers [--quick] [--reps R] */
+ * --links N1,N2,... measures chains of these links instead (the long
+ * series: 2,10,50,100,200,400).
+ *
+ * usage: bench-peers [--quick] [--reps R] [--links N1,N2,...] */
 #define _POSIX_C_SOURCE 200809L
 
 #include <math.h>
@@ -53,7 +57,11 @@
 
 #define NPEERS 2
 #define MAX_REPS 64
-#define GATE 1e-13 /* the largest backward error a timed peer may have */
+/* The largest backward error a timed peer may have at N links: 1e-13,
+ * and 4e-16 N^2 above 16 links, where MuJoCo's, taken in absolute angles
+ * that are sums of its relative ones, grows as N^2 (7e-14 at 50 links,
+ * 3e-12 at 100, 6e-11 at 400) */
+#define GATE(N) fmax(1e-13, 4e-16 * (double)(N) * (double)(N))
 enum { P_MUJOCO, P_SYMPY };
 static const char *const peer_name[NPEERS] = {"MuJoCo", "SymPy"};
 
@@ -252,28 +260,28 @@ static void time_routes(ctx *c, int reps, double min_batch, row *r)
 {
     double tape[NPEERS * MAX_REPS], ctape[NPEERS * MAX_REPS], t0, t1, t2;
     double rt[MAX_REPS], ct[MAX_REPS], tp[MAX_REPS];
-    long b0 = bench_calibrate(run_tape, c, min_batch), b1, b2;
+    long b0 = bench_calibrate_cpu(run_tape, c, min_batch), b1, b2;
     int k, i, ntape = 0;
-    b2 = c->cs ? bench_calibrate(run_ctape, c, min_batch) : 0;
+    b2 = c->cs ? bench_calibrate_cpu(run_ctape, c, min_batch) : 0;
     for (k = 0; k < NPEERS; k++) {
         void (*run)(void *) = peer_run(c, k);
         r->us[k] = r->ratio[k] = r->cratio[k] = NAN;
-        if (!run || !(r->bwd[k] <= GATE))
+        if (!run || !(r->bwd[k] <= GATE(c->N)))
             continue;
-        b1 = bench_calibrate(run, c, min_batch);
+        b1 = bench_calibrate_cpu(run, c, min_batch);
         for (i = 0; i < reps; i++) {
             /* the three routes in a rotating order */
             t2 = NAN;
             if (i % 2) {
-                t1 = bench_time(run, c, b1);
+                t1 = bench_time_cpu(run, c, b1);
                 if (c->cs)
-                    t2 = bench_time(run_ctape, c, b2);
-                t0 = bench_time(run_tape, c, b0);
+                    t2 = bench_time_cpu(run_ctape, c, b2);
+                t0 = bench_time_cpu(run_tape, c, b0);
             } else {
-                t0 = bench_time(run_tape, c, b0);
+                t0 = bench_time_cpu(run_tape, c, b0);
                 if (c->cs)
-                    t2 = bench_time(run_ctape, c, b2);
-                t1 = bench_time(run, c, b1);
+                    t2 = bench_time_cpu(run_ctape, c, b2);
+                t1 = bench_time_cpu(run, c, b1);
             }
             tape[ntape] = t0;
             ctape[ntape++] = t2;
@@ -287,8 +295,8 @@ static void time_routes(ctx *c, int reps, double min_batch, row *r)
     }
     if (!ntape) /* no peer to alternate with: eom_rhs alone */
         for (i = 0; i < reps; i++) {
-            tape[ntape] = bench_time(run_tape, c, b0);
-            ctape[ntape++] = c->cs ? bench_time(run_ctape, c, b2) : NAN;
+            tape[ntape] = bench_time_cpu(run_tape, c, b0);
+            ctape[ntape++] = c->cs ? bench_time_cpu(run_ctape, c, b2) : NAN;
         }
     r->rhs_us = 1e6 * bench_median(tape, ntape);
     r->crhs_us = c->cs ? 1e6 * bench_median(ctape, ntape) : NAN;
@@ -388,7 +396,7 @@ static int measure(int N, int reps, double min_batch, row *r)
         exit(1);
     }
     for (k = 0; k < NPEERS; k++)
-        if (r->have[k] && !(r->bwd[k] <= GATE))
+        if (r->have[k] && !(r->bwd[k] <= GATE(N)))
             bad = 1;
     time_routes(&c, reps, min_batch, r);
 #ifdef HAVE_MUJOCO
@@ -422,7 +430,7 @@ static void print_times(const int *Ns, const row *r, int n)
         for (k = 0; k < NPEERS; k++) {
             if (!r[i].have[k])
                 printf(" - | - | - |");
-            else if (!(r[i].bwd[k] <= GATE))
+            else if (!(r[i].bwd[k] <= GATE(Ns[i])))
                 printf(" disagrees | - | - |");
             else
                 printf(" %.3g | %.2f | %.2f |", r[i].us[k], r[i].ratio[k],
@@ -457,7 +465,7 @@ static void print_agreement(const int *Ns, const row *r, int n)
         for (k = 0; k < NPEERS; k++) {
             if (r[i].have[k])
                 printf(" %.1e | %.1e%s |", r[i].fwd[k], r[i].bwd[k],
-                       r[i].bwd[k] <= GATE ? "" : " DISAGREES");
+                       r[i].bwd[k] <= GATE(Ns[i]) ? "" : " DISAGREES");
             else
                 printf(" - | - |");
             if (k == P_MUJOCO && r[i].have[k])
@@ -498,21 +506,42 @@ static void print_build(const int *Ns, const row *r, int n)
     }
 }
 
+/* "2,10,50" into at most max values; their count, or -1. */
+static int parse_links(const char *s, int *out, int max)
+{
+    int n = 0;
+    while (*s) {
+        char *end;
+        const long v = strtol(s, &end, 10);
+        if (end == s || v < 1 || v > 100000 || n == max ||
+            (*end && *end != ','))
+            return -1;
+        out[n++] = (int)v;
+        s = *end ? end + 1 : end;
+    }
+    return n;
+}
+
 int main(int argc, char **argv)
 {
-    static const int Ns[] = {2, 5, 10, 20, 50};
+    static const int Ns_default[] = {2, 5, 10, 20, 50};
     char dir[] = "/tmp/bench-peers-XXXXXX", cmd[128];
-    const int n = (int)(sizeof Ns / sizeof Ns[0]);
-    row r[sizeof Ns / sizeof Ns[0]];
+    int Ns[32], n = (int)(sizeof Ns_default / sizeof Ns_default[0]);
+    row r[32];
     int reps = 15, quick = 0, i, bad = 0;
+    memcpy(Ns, Ns_default, sizeof Ns_default);
     for (i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--quick")) {
             quick = 1;
             reps = 3;
         } else if (!strcmp(argv[i], "--reps") && i + 1 < argc) {
             reps = atoi(argv[++i]);
+        } else if (!strcmp(argv[i], "--links") && i + 1 < argc &&
+                   (n = parse_links(argv[i + 1], Ns, 32)) >= 1) {
+            i++;
         } else {
-            fprintf(stderr, "usage: bench-peers [--quick] [--reps R]\n");
+            fprintf(stderr, "usage: bench-peers [--quick] [--reps R] "
+                    "[--links N1,N2,...]\n");
             return 2;
         }
     }
@@ -544,7 +573,7 @@ int main(int argc, char **argv)
            reps);
     print_times(Ns, r, n);
     printf("\nAgreement with eom_rhs (max norms; a peer whose backward "
-           "error exceeds %.0e is not timed):\n\n", GATE);
+           "error exceeds max(1e-13, 4e-16 N^2) is not timed):\n\n");
     print_agreement(Ns, r, n);
     printf("\nWhat building each route took:\n\n");
     print_build(Ns, r, n);

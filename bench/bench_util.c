@@ -12,6 +12,13 @@ double bench_now(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+double bench_cpu_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
 static int cmp_double(const void *a, const void *b)
 {
     const double x = *(const double *)a, y = *(const double *)b;
@@ -24,26 +31,48 @@ double bench_median(double *v, int n)
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
-double bench_time(void (*fn)(void *), void *ctx, long reps)
+static double time_with(double (*clk)(void), void (*fn)(void *), void *ctx,
+                        long reps)
 {
-    double t0 = bench_now();
+    double t0 = clk();
     long i;
     for (i = 0; i < reps; i++)
         fn(ctx);
-    return (bench_now() - t0) / (double)reps;
+    return (clk() - t0) / (double)reps;
 }
 
-long bench_calibrate(void (*fn)(void *), void *ctx, double min_seconds)
+double bench_time(void (*fn)(void *), void *ctx, long reps)
+{
+    return time_with(bench_now, fn, ctx, reps);
+}
+
+double bench_time_cpu(void (*fn)(void *), void *ctx, long reps)
+{
+    return time_with(bench_cpu_now, fn, ctx, reps);
+}
+
+static long calibrate_with(double (*clk)(void), void (*fn)(void *),
+                           void *ctx, double min_seconds)
 {
     long reps = 1;
     for (;;) {
-        double t0 = bench_now(), dt;
+        double t0 = clk(), dt;
         long i;
         for (i = 0; i < reps; i++)
             fn(ctx);
-        dt = bench_now() - t0;
+        dt = clk() - t0;
         if (dt >= min_seconds || reps > (1L << 40))
             return reps;
         reps = dt > 0 ? (long)(reps * 1.2 * min_seconds / dt) + 1 : reps * 10;
     }
+}
+
+long bench_calibrate(void (*fn)(void *), void *ctx, double min_seconds)
+{
+    return calibrate_with(bench_now, fn, ctx, min_seconds);
+}
+
+long bench_calibrate_cpu(void (*fn)(void *), void *ctx, double min_seconds)
+{
+    return calibrate_with(bench_cpu_now, fn, ctx, min_seconds);
 }

@@ -11,6 +11,11 @@
 /* Seconds from a monotonic clock. */
 double bench_now(void);
 
+/* Seconds of processor time of the calling thread: what a single-threaded
+ * computation costs, whatever else the machine runs meanwhile (it still
+ * shares the caches). */
+double bench_cpu_now(void);
+
 /* Median of v[n] (v is reordered). */
 double bench_median(double *v, int n);
 
@@ -19,6 +24,11 @@ double bench_time(void (*fn)(void *), void *ctx, long reps);
 
 /* Number of calls so that one batch of fn takes at least min_seconds. */
 long bench_calibrate(void (*fn)(void *), void *ctx, double min_seconds);
+
+/* bench_time and bench_calibrate on the calling thread's processor time
+ * (bench_cpu_now) instead of the monotonic clock. */
+double bench_time_cpu(void (*fn)(void *), void *ctx, long reps);
+long bench_calibrate_cpu(void (*fn)(void *), void *ctx, double min_seconds);
 
 /* Heap allocations (malloc, calloc, realloc, aligned variants) made by the
  * whole process since it started. */

@@ -10,6 +10,12 @@
 
 static const double pi = 3.14159265358979323846;
 
+void dpotrf_(const char *uplo, const int *n, double *a, const int *lda,
+             int *info, size_t uplo_len);
+void dpotrs_(const char *uplo, const int *n, const int *nrhs,
+             const double *a, const int *lda, double *b, const int *ldb,
+             int *info, size_t uplo_len);
+
 /* libeom's blocked factor (libeom/src/cholesky_blocked.c, compiled into
  * the bench: it includes no header of libeom's); in place when A is M. */
 int eom__potrf_blocked(int n, const double *M, double *A);
@@ -239,7 +245,21 @@ int chain_plain_solve(int n, double *M, double *b)
         return small_cholesky_solve(n, M, b) == 0 ? 0 : -1;
     if (n <= COLUMN_CHOLESKY)
         return column_cholesky_solve(n, M, b, 0) == 0 ? 0 : -1;
-    if (eom__potrf_blocked(n, M, M) != 0)
-        return -1;
-    return column_cholesky_solve(n, M, b, 1);
+    return chain_plain_solve_by(CHAIN_SOLVE_BLOCKED, n, M, b);
+}
+
+int chain_plain_solve_by(int route, int n, double *M, double *b)
+{
+    int info = 0, one = 1;
+    if (route == CHAIN_SOLVE_COLUMNS)
+        return column_cholesky_solve(n, M, b, 0) == 0 ? 0 : -1;
+    if (route == CHAIN_SOLVE_BLOCKED)
+        return eom__potrf_blocked(n, M, M) == 0 &&
+                       column_cholesky_solve(n, M, b, 1) == 0
+                   ? 0
+                   : -1;
+    dpotrf_("L", &n, M, &n, &info, 1);
+    if (info == 0)
+        dpotrs_("L", &n, &one, M, &n, b, &n, &info, 1);
+    return info == 0 ? 0 : -1;
 }

@@ -37,5 +37,11 @@ int chain_plain_hand_rhs(chain_hand *h, const double *x, double *qdd);
  * with the hand-coded route's Cholesky; b becomes x. 0, or non-zero if M
  * is not positive definite. */
 int chain_plain_solve(int n, double *M, double *b);
+/* The same by one route at any n, for timing them against each other:
+ * CHAIN_SOLVE_COLUMNS (libeom's loops by columns), CHAIN_SOLVE_BLOCKED
+ * (its blocked factor, then the columns' solve), CHAIN_SOLVE_LAPACK
+ * (dpotrf + dpotrs of the LAPACK the program loaded). 0, or -1. */
+enum { CHAIN_SOLVE_COLUMNS, CHAIN_SOLVE_BLOCKED, CHAIN_SOLVE_LAPACK };
+int chain_plain_solve_by(int route, int n, double *M, double *b);
 
 #endif

@@ -1,5 +1,6 @@
-/* mujoco_chain.c - the rigid chain as an MJCF model built in memory and
- * loaded through MuJoCo's virtual file system (see mujoco_chain.h). */
+/* mujoco_chain.c - the rigid chain as a model built in memory (URDF, which
+ * MuJoCo reads beside MJCF) and loaded through MuJoCo's virtual file
+ * system (see mujoco_chain.h). */
 #include "mujoco_chain.h"
 
 #include <math.h>
@@ -31,41 +32,55 @@ static int put(char *buf, size_t cap, size_t *len, const char *fmt, ...)
     return 0;
 }
 
-/* The MJCF text: body j hangs at the tip of body j - 1 (x = L[j-1] in its
- * frame); its hinge turns about -y, so a positive angle turns +x towards
- * +z (our +y); the rod's centre of mass is at L/2 on its x axis, its
- * inertia about the hinge's axis m L^2 / 12 at the centre (the other two
- * axes only need to be positive). */
-static char *mjcf(int N, const double *m, const double *L, double g)
+/* The model as URDF, which MuJoCo compiles into the same kinematic tree
+ * as the nested MJCF bodies it replaced: MJCF nests each link inside the
+ * one before, and MuJoCo's XML reader (TinyXML-2) refuses elements nested
+ * deeper than 100, about 97 links; URDF lists links and joints side by
+ * side. Link j hangs at the tip of link j - 1 (x = L[j-1] in its frame);
+ * its hinge turns about -y, so a positive angle turns +x towards +z (our
+ * +y); the rod's centre of mass is at L/2 on its x axis, its inertia
+ * about the hinge's axis m L^2 / 12 at the centre (the other two axes
+ * only need to be positive). The massless base link is fused into the
+ * world; gravity and the disabled contacts are set on the compiled
+ * model (mujoco_chain_new). */
+static char *urdf(int N, const double *m, const double *L)
 {
-    const size_t cap = 4096 + (size_t)N * 512;
+    const size_t cap = 4096 + (size_t)N * 1024;
     char *buf = malloc(cap);
     size_t len = 0;
     int j, bad = 0;
     if (!buf)
         return NULL;
     bad |= put(buf, cap, &len,
-               "<mujoco model=\"chain\">\n"
-               "  <compiler angle=\"radian\" inertiafromgeom=\"false\"/>\n"
-               "  <option gravity=\"0 0 %.17g\">\n"
-               "    <flag contact=\"disable\"/>\n"
-               "  </option>\n"
-               "  <worldbody>\n", -g);
+               "<robot name=\"chain\">\n"
+               "  <mujoco>\n"
+               "    <compiler angle=\"radian\" fusestatic=\"true\"/>\n"
+               "  </mujoco>\n"
+               "  <link name=\"base\"/>\n");
     for (j = 0; j < N; j++) {
         const double I = m[j] * L[j] * L[j] / 12.0;
+        char parent[32] = "base";
+        if (j)
+            snprintf(parent, sizeof parent, "link%d", j);
         bad |= put(buf, cap, &len,
-                   "%*s<body name=\"link%d\" pos=\"%.17g 0 0\">\n"
-                   "%*s  <joint name=\"hinge%d\" type=\"hinge\" "
-                   "axis=\"0 -1 0\" pos=\"0 0 0\"/>\n"
-                   "%*s  <inertial pos=\"%.17g 0 0\" mass=\"%.17g\" "
-                   "diaginertia=\"%.17g %.17g %.17g\"/>\n",
-                   4 + 2 * j, "", j + 1, j ? L[j - 1] : 0.0,
-                   4 + 2 * j, "", j + 1,
-                   4 + 2 * j, "", 0.5 * L[j], m[j], 1e-6 * I, I, I);
+                   "  <link name=\"link%d\">\n"
+                   "    <inertial>\n"
+                   "      <origin xyz=\"%.17g 0 0\" rpy=\"0 0 0\"/>\n"
+                   "      <mass value=\"%.17g\"/>\n"
+                   "      <inertia ixx=\"%.17g\" iyy=\"%.17g\" "
+                   "izz=\"%.17g\" ixy=\"0\" ixz=\"0\" iyz=\"0\"/>\n"
+                   "    </inertial>\n"
+                   "  </link>\n"
+                   "  <joint name=\"hinge%d\" type=\"continuous\">\n"
+                   "    <parent link=\"%s\"/>\n"
+                   "    <child link=\"link%d\"/>\n"
+                   "    <origin xyz=\"%.17g 0 0\" rpy=\"0 0 0\"/>\n"
+                   "    <axis xyz=\"0 -1 0\"/>\n"
+                   "  </joint>\n",
+                   j + 1, 0.5 * L[j], m[j], 1e-6 * I, I, I, j + 1,
+                   parent, j + 1, j ? L[j - 1] : 0.0);
     }
-    for (j = N - 1; j >= 0; j--)
-        bad |= put(buf, cap, &len, "%*s</body>\n", 4 + 2 * j, "");
-    bad |= put(buf, cap, &len, "  </worldbody>\n</mujoco>\n");
+    bad |= put(buf, cap, &len, "</robot>\n");
     if (bad) {
         free(buf);
         return NULL;
@@ -78,7 +93,7 @@ mujoco_chain *mujoco_chain_new(int N, const double *m, const double *L,
 {
     mujoco_chain *c = calloc(1, sizeof *c);
     mjVFS *vfs = malloc(sizeof *vfs);
-    char *text = mjcf(N, m, L, g);
+    char *text = urdf(N, m, L);
     int k;
     if (!c || !vfs || !text) {
         snprintf(err, (size_t)errlen, "out of memory");
@@ -97,6 +112,9 @@ mujoco_chain *mujoco_chain_new(int N, const double *m, const double *L,
     vfs = NULL;
     if (!c->m)
         goto fail;
+    c->m->opt.gravity[0] = c->m->opt.gravity[1] = 0.0;
+    c->m->opt.gravity[2] = -g;
+    c->m->opt.disableflags |= mjDSBL_CONTACT;
     if (c->m->nv != N) {
         snprintf(err, (size_t)errlen, "the model has %d degrees of "
                  "freedom, not %d", c->m->nv, N);
