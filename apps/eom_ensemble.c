@@ -31,6 +31,7 @@
 #include "cli_stop.h"
 #include "demos/demos.h"
 #include "demos/file_demo.h"
+#include "ensemble_page.h"
 #include "ensemble_pool.h"
 #include "ensemble_runs.h"
 #include "ensemble_summary.h"
@@ -89,12 +90,13 @@ typedef struct cli {
     int threads, resume, quiet, help;
     int compiled; /* --compiled: every run on compiled tapes */
     int accept_unhealthy; /* --accept-unhealthy: exit 0 all the same */
+    int plots;    /* --plots: the trajectories drawn in one page */
 } cli;
 
 enum { OPT_RUNS = 256, OPT_SWEEP, OPT_THREADS, OPT_TRAJ, OPT_RESUME,
        OPT_INTEGRATOR, OPT_DT, OPT_RTOL, OPT_ATOL, OPT_MAX_STEPS,
        OPT_NO_PROJECT, OPT_SAMPLE, OPT_RANDOM, OPT_COUNT, OPT_SEED,
-       OPT_COMPILED, OPT_RANK_TIMEOUT, OPT_ACCEPT_UNHEALTHY };
+       OPT_COMPILED, OPT_RANK_TIMEOUT, OPT_ACCEPT_UNHEALTHY, OPT_PLOTS };
 
 static const struct option long_options[] = {
     {"help", no_argument, NULL, 'h'},
@@ -107,6 +109,7 @@ static const struct option long_options[] = {
     {"out", required_argument, NULL, 'o'},
     {"threads", required_argument, NULL, OPT_THREADS},
     {"trajectories", required_argument, NULL, OPT_TRAJ},
+    {"plots", no_argument, NULL, OPT_PLOTS},
     {"resume", no_argument, NULL, OPT_RESUME},
     {"t-end", required_argument, NULL, 't'},
     {"sample", required_argument, NULL, OPT_SAMPLE},
@@ -155,6 +158,10 @@ static void help(void)
         "      --threads K       K threads (default: the cores available)\n"
         "      --trajectories DIR  also write each run's CSV as "
         "DIR/run-K.csv\n"
+        "      --plots           with --trajectories: also write "
+        "SUMMARY-animation.html,\n"
+        "                        the runs drawn over each other in one "
+        "page\n"
         "  -s, --set NAME=VALUE  for every run: a structural setting, a "
         "parameter, an\n"
         "                        initial value or rate (as eom-run)\n"
@@ -226,6 +233,7 @@ static int parse(int argc, char **argv, cli *c)
             c->threads = (int)l;
             break;
         case OPT_TRAJ: c->traj = optarg; break;
+        case OPT_PLOTS: c->plots = 1; break;
         case OPT_RESUME: c->resume = 1; break;
         case 't': rc = cli_number_arg("--t-end", optarg, 0, &c->t_end); break;
         case OPT_SAMPLE: rc = cli_number_arg("--sample", optarg, 1, &c->sample); break;
@@ -448,6 +456,9 @@ static int run(cli *c, const demo *d)
             (k = cli_out_not_input(c->out, c->runs, "the runs file")))
             return k;
     }
+    if (c->plots && !c->traj)
+        return cli_usage_error("--plots draws the trajectories: give "
+                               "--trajectories DIR too");
     if (!!c->runs + (c->nsweeps > 0) + (c->ndists > 0) != 1)
         return cli_usage_error("give the runs with one of --runs FILE, --sweep "
                            "NAME=LO:HI:N or --random NAME=...");
@@ -635,6 +646,30 @@ static int run(cli *c, const demo *d)
                 started == 1 ? "" : "s", now() - t0, failed,
                 ndone ? ", kept from before: " : "",
                 ndone ? "see the summary" : "");
+    if (c->plots) {
+        /* every run that reached its end (an unhealthy one too), and
+         * those kept from before (--resume) whose trajectory is there */
+        unsigned char *drawn = calloc((size_t)runs.nruns, 1);
+        long nd = 0;
+        if (!drawn) {
+            fprintf(stderr, "eom-ensemble: out of memory\n");
+            goto destroy;
+        }
+        for (i = 0; i < runs.nruns; i++) {
+            char path[4096];
+            snprintf(path, sizeof path, "%s/run-%ld.csv", c->traj, i);
+            drawn[i] = skip[i] ? access(path, R_OK) == 0 : job.res[i].ok != 0;
+        }
+        k = ensemble_page_write(c->out, c->traj, &runs, drawn, s, d->name,
+                                &nd);
+        free(drawn);
+        if (k != 0)
+            goto destroy;
+        if (!c->quiet && nd > 0)
+            fprintf(stderr, "eom-ensemble: %s: %ld run%s drawn in the "
+                    "animation page beside '%s'\n", d->name, nd,
+                    nd == 1 ? "" : "s", c->out);
+    }
     if (unhealthy > 0)
         fprintf(stderr, "eom-ensemble: %s: %ld run%s unhealthy (status "
                 "unhealthy in the summary, the measure in its message)%s\n",

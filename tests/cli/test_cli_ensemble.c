@@ -325,6 +325,58 @@ static void case_trajectories(void)
     rmdir(dir);
 }
 
+/* --plots: one page of the runs drawn over each other beside the
+ * summary, a legend entry and a colour per run that reached its end; a
+ * usage error without --trajectories. The page's drawing is checked in
+ * a browser (tests/browser/test_pages.py). */
+static void case_plots(void)
+{
+    char out[300], dir[300], page[400], model[PATH_MAX + 32], *text;
+    const char *args[] = {model, "--sweep", "th1=0.5:1.5:3", "--t-end",
+                          "0.2", "--sample", "0.05", "--trajectories", dir,
+                          "--plots", "--out", out, "-q", NULL};
+    const char *no_traj[] = {model, "--sweep", "th1=0.5:1.5:3", "--plots",
+                             "--out", out, NULL};
+    result r;
+    long k;
+    snprintf(model, sizeof model, "%s/double-pendulum.eom", models);
+    scratch(out, sizeof out, "swing.csv");
+    scratch(dir, sizeof dir, "swing");
+    scratch(page, sizeof page, "swing-animation.html");
+    run(&r, no_traj);
+    CHECK_INT(r.status, 2);
+    CHECK_HAS(r.err, "--plots draws the trajectories: give "
+                     "--trajectories DIR too");
+    result_free(&r);
+    run(&r, args);
+    CHECK_INT(r.status, 0);
+    result_free(&r);
+    text = read_file(page, NULL);
+    CHECK(text != NULL);
+    if (text) {
+        const char *p = text;
+        long n = 0;
+        CHECK_HAS(text, "<title>double-pendulum: 3 runs</title>");
+        CHECK_HAS(text, "\"label\": \"run 0: th1=0.5\", \"rgb\": 2062260");
+        CHECK_HAS(text, "\"label\": \"run 1: th1=1\", \"rgb\": 16744206");
+        CHECK_HAS(text, "\"label\": \"run 2: th1=1.5\", \"rgb\": 2924588");
+        while ((p = strstr(p, "{\"label\": ")) != NULL) {
+            n++;
+            p++;
+        }
+        CHECK_INT(n, 3);
+    }
+    free(text);
+    unlink(page);
+    unlink(out);
+    for (k = 0; k < 3; k++) {
+        char file[400];
+        snprintf(file, sizeof file, "%s/run-%ld.csv", dir, k);
+        unlink(file);
+    }
+    rmdir(dir);
+}
+
 /* --random: inside its bounds, the right mean and spread, the same runs
  * for the same seed and other runs for another. */
 static void case_random(void)
@@ -743,6 +795,7 @@ static const struct {
     {"ensemble_threads", case_threads}, {"ensemble_failure", case_failure},
     {"ensemble_resume", case_resume},
     {"ensemble_trajectories", case_trajectories},
+    {"ensemble_plots", case_plots},
     {"ensemble_usage", case_usage}, {"ensemble_random", case_random},
     {"ensemble_mpi", case_mpi}, {"ensemble_kill", case_kill},
     {"ensemble_mpi_setup", case_mpi_setup}, {"ensemble_mpi_stopped", case_mpi_stopped}, {"ensemble_time", case_time},

@@ -323,6 +323,24 @@ EOM_API int eom_run_animation(const char *label, const eom_system *s,
                               const char *csv_path, char *err,
                               size_t errlen);
 
+/* One page of nruns runs of s drawn over each other (an ensemble's
+ * trajectories; docs/ensembles.md), when s has drawings (without,
+ * nothing is written and 0 comes back): csv_paths[r] is run r's CSV (as
+ * eom_run writes it; every one borrowed), run_labels[r] its name in the
+ * page's legend (NULL: "run R"), page_path the page (replaced
+ * atomically). Run r is drawn in the r-th of ten colours, in turn; one
+ * time slider goes through the frames of the run with the most rows and
+ * shows each run at its last frame at or before that time; the plot
+ * below is E of each run. The frame budget is shared: one stride for
+ * every run, the smallest that keeps the longest run within
+ * min(2000, 300000 / (nruns x drawn values per frame)) frames (at least
+ * 2). 0, or -1 with a message naming the CSV that could not be read. */
+EOM_API int eom_run_animation_runs(const char *label, const eom_system *s,
+                                   int nruns, const char *const *csv_paths,
+                                   const char *const *run_labels,
+                                   const char *page_path, char *err,
+                                   size_t errlen);
+
 /* Where the plots of a CSV go: for csv_path DIR/NAME.csv the files are
  * DIR/NAME-SUFFIX; a script names the CSV within DIR, as gnuplot runs
  * there. */
