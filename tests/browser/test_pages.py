@@ -1,6 +1,8 @@
 #!/usr/bin/env python3
-"""test_pages.py - the animation pages of eom-run in a real browser
-(headless Chromium from Debian; docs/run.md, "The animation page").
+"""test_pages.py - the animation pages of eom-run and eom-ensemble in a
+real browser (headless Chromium from Debian, started once and driven over
+the DevTools protocol on a pipe: cdp.py; docs/run.md, "The animation
+page", docs/ensembles.md).
 
 For every shipped model: eom-run MODEL --out writes the CSV and
 write_page (eom_run_animation, as eom-run --plots calls it, without
@@ -15,7 +17,14 @@ the last frame at or before S; a spatial model's WebGL view shows its red
 marker; a 10,000-row run of the closed chain keeps at most 2000 frames and
 its page stays under 5 MB.
 
-usage: test_pages.py EOM_RUN WRITE_PAGE MODELS_DIR
+The ensemble's page (eom-ensemble --trajectories DIR --plots): ten runs
+of the double pendulum drawn, one legend entry each, each run's frames
+its CSV's rows kept by the shared budget, and at the first and the last
+frame the lower bob of two runs, each in its run's colour, within 2 px
+of where that run's CSV puts it; a spatial ensemble's WebGL page shows
+each run's colour.
+
+usage: test_pages.py EOM_RUN WRITE_PAGE EOM_ENSEMBLE MODELS_DIR
 Exit 77 (skipped) with a message when Chromium is missing. Only the
 Python standard library: the PNG is decoded here with zlib.
 """
@@ -31,9 +40,18 @@ import sys
 import tempfile
 import zlib
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from cdp import Browser, BrowserError  # noqa: E402
+
 FAILS = []
 CHECKS = [0]
-TIMEOUT = 120  # seconds per browser run; a loaded 2-core machine needs ~5
+# seconds for any one answer of the browser (its start, a page's load, a
+# screenshot); a loaded 2-core machine needs about 15 for the first page
+TIMEOUT = 120
+
+# the colours of an ensemble's runs, in turn (docs/run.md)
+RUN_COLOURS = [0x1f77b4, 0xff7f0e, 0x2ca02c, 0xd62728, 0x9467bd, 0x8c564b,
+               0xe377c2, 0x7f7f7f, 0xbcbd22, 0x17becf]
 
 
 def check(cond, what):
@@ -51,29 +69,42 @@ def chromium():
     return None
 
 
-def browser(exe, url, extra, workdir):
-    """Run headless Chromium once; its stdout and stderr."""
-    cmd = [exe, "--headless", "--no-sandbox", "--no-first-run",
-           "--disable-gpu-sandbox", "--use-angle=swiftshader",
-           "--enable-unsafe-swiftshader", "--hide-scrollbars",
-           "--window-size=860,960", "--enable-logging=stderr", "--v=0",
-           "--user-data-dir=" + os.path.join(workdir, "profile")] + extra
-    r = subprocess.run(cmd + [url], capture_output=True, text=True,
-                       timeout=TIMEOUT, cwd=workdir)
-    return r.stdout, r.stderr
-
-
-def status_of(exe, page, frag, workdir):
+def status_of(b, page, frag):
     """The page's #status object after load, and its console errors."""
-    out, err = browser(exe, "file://" + page + frag, ["--dump-dom"],
-                       workdir)
-    m = re.search(r'<pre id="status">([^<]*)</pre>', out)
-    errors = [line for line in err.splitlines()
-              if "CONSOLE" in line and
-              ("Uncaught" in line or "rror" in line)]
-    if not m:
+    tab = b.open("file://" + page + frag)
+    try:
+        st = tab.status()
+        errors = tab.errors
+    finally:
+        tab.close()
+    if st is None:
         return None, errors + ["no status in the page"]
-    return json.loads(m.group(1).replace("&quot;", '"')), errors
+    return st, errors
+
+
+def screenshots(b, url, shots):
+    """Screenshots of url: for each (png, clip) of shots, the part clip
+    (x, y, width, height, scale; None: the whole window) into png. Small
+    clips keep the decoding here (pure Python) short."""
+    tab = b.open(url)
+    try:
+        tab.status()  # its first frame is drawn
+        for png, clip in shots:
+            tab.screenshot(png, clip)
+    finally:
+        tab.close()
+
+
+def marker_at(png, rgb, ex, ey, half=10):
+    """The centroid (in the page's pixels) and count of the pixels of
+    colour rgb within half px of (ex, ey), from png, a clip taken at
+    (int(ex) - 20, int(ey) - 20)."""
+    x0, y0 = int(ex) - 20, int(ey) - 20
+    w, h, px = png_pixels(png)
+    cx, cy, n = centre_of(px, rgb, (int(ex) - half - x0, int(ey) - half - y0,
+                                    int(ex) + half + 1 - x0,
+                                    int(ey) + half + 1 - y0))
+    return (cx + x0 if n else None), (cy + y0 if n else None), n
 
 
 def page_data(page):
@@ -199,21 +230,19 @@ def check_frames(name, page, csvpath, st):
     return d, table, rows
 
 
-def check_marker(exe, name, page, st, table, rows, where, workdir):
-    """The red bob at the first and the last frame, against where(row)."""
+def check_marker(b, name, page, st, table, rows, where, workdir):
+    """The red bob at the first and the last frame, against where(row):
+    its pixels within 10 px of where the CSV puts it."""
     for f in (0, len(rows) - 1):
         png = os.path.join(workdir, "%s-%d.png" % (name, f))
-        browser(exe, "file://%s#frame=%d" % (page, f),
-                ["--screenshot=" + png], workdir)
         s = st  # the view's place and scale do not change with the frame
-        w, h, px = png_pixels(png)
-        box = (int(s["left"]), int(s["top"]), int(s["left"] + 800),
-               int(s["top"] + 560))
-        cx, cy, n = centre_of(px, (0xe4, 0x1a, 0x1c), box)
         x, y = where(table, rows[f])
         ex = s["left"] + s["ox"] + s["scale"] * x
         ey = s["top"] + s["oy"] - s["scale"] * y
-        check(n > 20 and abs(cx - ex) <= 2 and abs(cy - ey) <= 2,
+        screenshots(b, "file://%s#frame=%d" % (page, f),
+                    [(png, (int(ex) - 20, int(ey) - 20, 41, 41, 1))])
+        cx, cy, n = marker_at(png, (0xe4, 0x1a, 0x1c), ex, ey)
+        check(n > 60 and abs(cx - ex) <= 2 and abs(cy - ey) <= 2,
               "%s frame %d: the red marker at (%s, %s) (%d px), the CSV "
               "puts it at (%.1f, %.1f)" % (name, f, cx, cy, n, ex, ey))
         if n:
@@ -233,11 +262,154 @@ def cart_pole_bob(table, r):
     return x + 0.5 * math.sin(th), 0.5 * math.cos(th)
 
 
+def kept_rows_shared(nrows_of_runs, nv):
+    """docs/run.md: an ensemble's page keeps at most 2000 frames and
+    300000 drawn values over all runs; one stride for every run, the
+    smallest that fits the longest, and each run's last row."""
+    runs = len(nrows_of_runs)
+    budget = max(2, min(2000, 300000 // (max(nv, 1) * runs)))
+    longest = max(nrows_of_runs)
+    k = 1
+    while len(range(0, longest, k)) + ((longest - 1) % k != 0) > budget:
+        k += 1
+    out = []
+    for n in nrows_of_runs:
+        rows = list(range(0, n, k))
+        if rows[-1] != n - 1:
+            rows.append(n - 1)
+        out.append(rows)
+    return out
+
+
+def rgb_of(c):
+    return ((c >> 16) & 255, (c >> 8) & 255, c & 255)
+
+
+def check_ensemble(b, eom_ensemble, models, workdir):
+    """Ten runs of the double pendulum in one page (eom-ensemble
+    --trajectories DIR --plots)."""
+    name, nruns = "ensemble", 10
+    r = subprocess.run(
+        [eom_ensemble, os.path.join(models, "double-pendulum.eom"),
+         "--sweep", "th1=0.5:2.5:%d" % nruns, "--set", "th2=0",
+         "--set", "th2_dot=2", "--t-end", "2", "--sample", "0.05",
+         "--trajectories", "traj", "--plots", "--out", "dp.csv", "-q"],
+        capture_output=True, text=True, cwd=workdir, timeout=600)
+    check(r.returncode == 0, "eom-ensemble --plots: %s" % r.stderr)
+    page = os.path.join(workdir, "dp-animation.html")
+    if r.returncode != 0 or not os.path.exists(page):
+        return
+    st, errors = status_of(b, page, "")
+    check(st is not None and not st["errors"] and not errors,
+          "%s: errors in the page: %s %s" % (name, st and st["errors"],
+                                             errors))
+    if st is None:
+        return
+    d = page_data(page)
+    tables = [read_csv(os.path.join(workdir, "traj", "run-%d.csv" % k))
+              for k in range(nruns)]
+    # every run drawn, each with its legend entry and colour
+    check(st["runs"] == nruns and len(d["runs"]) == nruns,
+          "%s: %s runs drawn, %d in the page, the ensemble has %d"
+          % (name, st["runs"], len(d["runs"]), nruns))
+    tab = b.open("file://" + page)
+    try:
+        entries = tab.eval("Array.from(document.querySelectorAll("
+                           "'#legend span.run')).map(e => e.textContent)")
+    finally:
+        tab.close()
+    check(entries == ["run %d: th1=%.6g" % (k, 0.5 + 2.0 * k / (nruns - 1))
+                      for k in range(nruns)],
+          "%s: the legend is %s" % (name, entries))
+    check([run["rgb"] for run in d["runs"]] == RUN_COLOURS[:nruns],
+          "%s: the runs' colours are not the documented ones" % name)
+    # each run's frames: its CSV's rows kept by the shared budget
+    kept = kept_rows_shared([len(t["t"]) for t in tables], d["nv"])
+    for k in range(nruns):
+        ts = [tables[k]["t"][i] for i in kept[k]]
+        check(len(d["runs"][k]["t"]) == len(ts) and
+              all(abs(x - y) <= 1e-6 * max(1, abs(y))
+                  for x, y in zip(d["runs"][k]["t"], ts)),
+              "%s: run %d's frames are not its CSV's kept rows" % (name, k))
+    check(st["frames"] == max(len(rows) for rows in kept),
+          "%s: the slider has %d frames" % (name, st["frames"]))
+    print("%s: %d runs, %d frames, %d bytes" % (
+        name, nruns, st["frames"], os.path.getsize(page)))
+    for f in (0, st["frames"] - 1):
+        def at(xy):
+            return (st["left"] + st["ox"] + st["scale"] * xy[0],
+                    st["top"] + st["oy"] - st["scale"] * xy[1])
+        # every drawn point of every run at this frame (the runs all
+        # have the slider's frames here), in the page's pixels
+        rows = [kept[k][min(f, len(kept[k]) - 1)] for k in range(nruns)]
+        bob1 = [at((math.sin(t["th1"][i]), -math.cos(t["th1"][i])))
+                for t, i in zip(tables, rows)]
+        bob2 = [at(double_pendulum_bob(t, i)) for t, i in zip(tables, rows)]
+
+        def clear(k):
+            # no point of a run drawn later within 13 px (it would cover
+            # part of run k's bob), the run's own upper bob 18 px away
+            later = [p for j in range(k + 1, nruns) for p in (bob1[j],
+                                                              bob2[j])]
+            near = [math.hypot(p[0] - bob2[k][0], p[1] - bob2[k][1])
+                    for p in later]
+            return min(near + [99]) > 13 and math.hypot(
+                bob1[k][0] - bob2[k][0], bob1[k][1] - bob2[k][1]) > 18
+        chosen = [k for k in range(nruns) if clear(k)][:2]
+        check(len(chosen) == 2, "%s frame %d: fewer than two runs' bobs "
+              "stand apart (%s)" % (name, f, chosen))
+        pngs = [os.path.join(workdir, "%s-%d-%d.png" % (name, f, k))
+                for k in chosen]
+        screenshots(b, "file://%s#frame=%d" % (page, f),
+                    [(png, (int(bob2[k][0]) - 20, int(bob2[k][1]) - 20, 41,
+                            41, 1)) for png, k in zip(pngs, chosen)])
+        for png, k in zip(pngs, chosen):
+            ex, ey = bob2[k]
+            cx, cy, n = marker_at(png, rgb_of(RUN_COLOURS[k]), ex, ey)
+            check(n > 60 and abs(cx - ex) <= 2 and abs(cy - ey) <= 2,
+                  "%s frame %d: run %d's bob in its colour at (%s, %s) "
+                  "(%d px), its CSV puts it at (%.1f, %.1f)"
+                  % (name, f, k, cx, cy, n, ex, ey))
+            if n:
+                print("%s frame %d run %d: bob at (%.2f, %.2f), CSV "
+                      "(%.2f, %.2f), %d px" % (name, f, k, cx, cy, ex, ey,
+                                               n))
+    # a spatial model: three runs in the WebGL view, each in its colour
+    r = subprocess.run(
+        [eom_ensemble, os.path.join(models, "spherical-double-pendulum.eom"),
+         "--sweep", "b1=0.3:0.9:3", "--t-end", "1", "--sample", "0.05",
+         "--trajectories", "traj3", "--plots", "--out", "sdp.csv", "-q"],
+        capture_output=True, text=True, cwd=workdir, timeout=600)
+    check(r.returncode == 0, "eom-ensemble --plots (spatial): %s %s"
+          % (r.returncode, r.stderr))
+    page = os.path.join(workdir, "sdp-animation.html")
+    if r.returncode != 0 or not os.path.exists(page):
+        return
+    st, errors = status_of(b, page, "#frame=0")
+    check(st is not None and not st["errors"] and not errors and
+          st["runs"] == 3,
+          "spatial ensemble: %s %s" % (st, errors))
+    d = page_data(page)
+    check(not d["planar"] and len(d["runs"]) == 3,
+          "spatial ensemble: planar %s, %d runs" % (d["planar"],
+                                                   len(d["runs"])))
+    png = os.path.join(workdir, "sdp.png")
+    # the view at half scale: enough to see the colours, a quarter of
+    # the pixels to decode
+    screenshots(b, "file://%s#frame=0" % page,
+                [(png, (int(st["left"]), int(st["top"]), 800, 560, 0.5))])
+    w, h, px = png_pixels(png)
+    for k in range(3):
+        _, _, n = centre_of(px, rgb_of(RUN_COLOURS[k]), (0, 0, w, h), 40)
+        check(n > 5, "spatial ensemble: the WebGL view shows no run %d "
+                     "colour (%d px)" % (k, n))
+
+
 def main():
-    if len(sys.argv) != 4:
+    if len(sys.argv) != 5:
         sys.exit(__doc__)
-    eom_run, write_page = map(os.path.abspath, sys.argv[1:3])
-    models = sys.argv[3]
+    eom_run, write_page, eom_ensemble = map(os.path.abspath, sys.argv[1:4])
+    models = sys.argv[4]
     exe = chromium()
     if not exe:
         print("test_pages: skipped: no chromium on PATH (Debian's package "
@@ -245,69 +417,79 @@ def main():
         sys.exit(77)
     workdir = tempfile.mkdtemp(prefix="eom-pages-")
     try:
-        for model in sorted(os.listdir(models)):
-            if not model.endswith(".eom"):
-                continue
-            name = model[:-4]
-            page, csvpath = run_model(
-                eom_run, None if name == "double-pendulum" else write_page,
-                os.path.join(models, model), workdir, ["--t-end", "3"])
-            st, errors = status_of(exe, page, "", workdir)
-            check(st is not None and not st["errors"] and not errors,
-                  "%s: errors in the page: %s %s" % (
-                      name, st and st["errors"], errors))
-            if st is None:
-                continue
-            d, table, rows = check_frames(name, page, csvpath, st)
-            print("%s: %d frames, %d bytes, %s" % (
-                name, st["frames"], os.path.getsize(page),
-                "2-D" if d["planar"] else "3-D"))
-            if name == "double-pendulum":
-                check_marker(exe, name, page, st, table, rows,
-                             double_pendulum_bob, workdir)
-                # the slider, moved through the page's #t=
-                s, _ = status_of(exe, page, "#t=1.234", workdir)
-                want = max(k for k, r in enumerate(rows)
-                           if table["t"][r] <= 1.234)
-                check(s["frame"] == want and s["slider"] == want and
-                      s["label"] == "t = %.3f s" % table["t"][rows[want]],
-                      "double-pendulum: #t=1.234 gave %s, expected frame %d"
-                      % (s, want))
-            if name == "cart-pole":
-                check_marker(exe, name, page, st, table, rows,
-                             cart_pole_bob, workdir)
-            if name == "rolling-disk":
-                check(not d["planar"], "rolling-disk is drawn in 2-D")
-                png = os.path.join(workdir, "disk.png")
-                browser(exe, "file://%s#frame=0" % page,
-                        ["--screenshot=" + png], workdir)
-                w, h, px = png_pixels(png)
-                _, _, n = centre_of(px, (0xe4, 0x1a, 0x1c), (0, 0, w, h), 40)
-                check(n > 5, "rolling-disk: the WebGL view shows no red "
-                             "marker (%d px)" % n)
-        # the budget: a 10,000-row run of the closed chain
-        page, csvpath = run_model(eom_run, write_page, os.path.join(
-            models, "closed-chain.eom"), workdir,
-            ["--t-end", "99.99", "--sample", "0.01"])
-        st, errors = status_of(exe, page, "", workdir)
-        size = os.path.getsize(page)
-        print("closed-chain, 10,000 rows: %d frames, %d bytes" % (
-            st["frames"] if st else -1, size))
-        check(st is not None and not st["errors"] and not errors,
-              "closed-chain 10,000 rows: errors %s" % errors)
-        if st:
-            d, table, rows = check_frames("closed-chain 10,000 rows", page,
-                                          csvpath, st)
-            check(len(table["t"]) == 10000, "the large run has %d rows"
-                  % len(table["t"]))
-            check(1000 < st["frames"] <= 2000,
-                  "the large run kept %d frames" % st["frames"])
-        check(size < 5 * 1024 * 1024, "the large run's page is %d bytes"
-              % size)
+        with Browser(exe, workdir, TIMEOUT) as b:
+            pages(b, eom_run, write_page, eom_ensemble, models, workdir)
+    except BrowserError as e:
+        check(False, "the browser: %s" % e)
     finally:
         shutil.rmtree(workdir, ignore_errors=True)
     print("%d checks, %d failed" % (CHECKS[0], len(FAILS)))
     sys.exit(1 if FAILS else 0)
+
+
+def pages(b, eom_run, write_page, eom_ensemble, models, workdir):
+    """Every check, in the one browser b."""
+    for model in sorted(os.listdir(models)):
+        if not model.endswith(".eom"):
+            continue
+        name = model[:-4]
+        page, csvpath = run_model(
+            eom_run, None if name == "double-pendulum" else write_page,
+            os.path.join(models, model), workdir, ["--t-end", "3"])
+        st, errors = status_of(b, page, "")
+        check(st is not None and not st["errors"] and not errors,
+              "%s: errors in the page: %s %s" % (
+                  name, st and st["errors"], errors))
+        if st is None:
+            continue
+        d, table, rows = check_frames(name, page, csvpath, st)
+        print("%s: %d frames, %d bytes, %s" % (
+            name, st["frames"], os.path.getsize(page),
+            "2-D" if d["planar"] else "3-D"))
+        if name == "double-pendulum":
+            check_marker(b, name, page, st, table, rows,
+                         double_pendulum_bob, workdir)
+            # the slider, moved through the page's #t=
+            s, _ = status_of(b, page, "#t=1.234")
+            want = max(k for k, r in enumerate(rows)
+                       if table["t"][r] <= 1.234)
+            check(s["frame"] == want and s["slider"] == want and
+                  s["label"] == "t = %.3f s" % table["t"][rows[want]],
+                  "double-pendulum: #t=1.234 gave %s, expected frame %d"
+                  % (s, want))
+        if name == "cart-pole":
+            check_marker(b, name, page, st, table, rows,
+                         cart_pole_bob, workdir)
+        if name == "rolling-disk":
+            check(not d["planar"], "rolling-disk is drawn in 2-D")
+            png = os.path.join(workdir, "disk.png")
+            screenshots(b, "file://%s#frame=0" % page,
+                        [(png, (int(st["left"]), int(st["top"]), 800, 560,
+                                0.5))])
+            w, h, px = png_pixels(png)
+            _, _, n = centre_of(px, (0xe4, 0x1a, 0x1c), (0, 0, w, h), 40)
+            check(n > 5, "rolling-disk: the WebGL view shows no red "
+                         "marker (%d px)" % n)
+    check_ensemble(b, eom_ensemble, models, workdir)
+    # the budget: a 10,000-row run of the closed chain
+    page, csvpath = run_model(eom_run, write_page, os.path.join(
+        models, "closed-chain.eom"), workdir,
+        ["--t-end", "99.99", "--sample", "0.01"])
+    st, errors = status_of(b, page, "")
+    size = os.path.getsize(page)
+    print("closed-chain, 10,000 rows: %d frames, %d bytes" % (
+        st["frames"] if st else -1, size))
+    check(st is not None and not st["errors"] and not errors,
+          "closed-chain 10,000 rows: errors %s" % errors)
+    if st:
+        d, table, rows = check_frames("closed-chain 10,000 rows", page,
+                                      csvpath, st)
+        check(len(table["t"]) == 10000, "the large run has %d rows"
+              % len(table["t"]))
+        check(1000 < st["frames"] <= 2000,
+              "the large run kept %d frames" % st["frames"])
+    check(size < 5 * 1024 * 1024, "the large run's page is %d bytes"
+          % size)
 
 
 main()
