@@ -1,6 +1,7 @@
-/* codegen.c - a finished tape as C source: its sweeps unrolled, one
- * statement per live op with the op's code, dependency byte, slots and
- * constants as literals.
+/* codegen.c - a finished tape as C source: one statement per live op
+ * with the op's code, dependency byte, slots and constants as literals,
+ * runs of statements that repeat with shifted slots (a chain's links)
+ * written once as loops (codegen_loops.c).
  *
  * The per-op kernels are pasted in as text (kernel_text.c, made at build
  * time from sweep_ops.h and the headers it needs), so the compiled sweeps
@@ -14,8 +15,8 @@
  * Layout of the generated source (format TP_CODEGEN_FORMAT):
  *   - the kernels, the constant pool K as exact hexadecimal literals;
  *   - the value sweep (fwd0) and the gradient sweep (rev1): chunk
- *     functions of at most CHUNK ops (the compiler's time grows faster
- *     than linearly in a function's size) and an exported entry
+ *     functions of about 256 statements (the compiler's time grows
+ *     faster than linearly in a function's size) and an exported entry
  *     tpc_<sweep>(kx, end);
  *   - optionally the direction blocks (codegen_lagrange.c: the Lagrange
  *     block, the Jacobian block), where the direction rows are: sweeps
@@ -36,8 +37,6 @@
 
 #include "codegen.h"
 #include "sweep_ops.h"
-
-#define CHUNK 256u
 
 enum sweep { SW_FWD0, SW_REV1, SW_COUNT };
 static const char *const sweep_name[SW_COUNT] = {"fwd0", "rev1"};
@@ -115,66 +114,96 @@ const char *tp__op_fn_name(unsigned op)
     }
 }
 
-static void emit_chunk(tp_sbuf *b, const tp_tape *T, const unsigned char *ep,
-                       enum sweep s, uint32_t c, uint32_t lo, uint32_t hi)
-{
-    const bool rev = s == SW_REV1;
-    uint32_t i;
-    char sig[96];
-    snprintf(sig, sizeof sig, "void %s_%u(const tp_kx *x, uint32_t end)",
-             sweep_name[s], c);
-    tp__chunk_begin(b, c, sig);
-    tp__sbuf_puts(b, "    tp_kx y = *x;\n    y.K = K;\n    (void)end;\n");
+/* What a sweep's chunk openings need. Statement k is op lo + k (value
+ * sweep) or op n - 1 - k (gradient sweep, which runs backwards). */
+typedef struct sweep_ctx {
+    const tp_tape *T;
+    const unsigned char *ep;
+    enum sweep s;
+} sweep_ctx;
 
-    if (!rev) {
-        for (i = lo; i < hi; i++) {
-            if (i > lo && ep[i])
-                tp__sbuf_printf(b, "if (end <= %uu) return;\n", i);
-            emit_op(b, T, s, i);
-        }
-    } else {
-        /* entry points: end in (lo, hi) starts at op end - 1 */
-        bool any = false;
-        for (i = lo + 1; i < hi; i++)
-            any = any || ep[i];
-        if (any) {
-            tp__sbuf_puts(b, "switch (end) {\n");
-            for (i = lo + 1; i < hi; i++)
-                if (ep[i])
-                    tp__sbuf_printf(b, "case %uu: goto e%u;\n", i, i);
-            tp__sbuf_puts(b, "default: break;\n}\n");
-        }
-        for (i = hi; i-- > lo;) {
-            if (i + 1 < hi && ep[i + 1])
-                tp__sbuf_printf(b, "e%u:\n", i + 1);
-            emit_op(b, T, s, i);
-        }
-    }
-    tp__sbuf_puts(b, TP_CHUNK_END);
+static uint32_t stmt_op(const sweep_ctx *x, uint32_t k)
+{
+    return x->s == SW_REV1 ? x->T->n_ops - 1 - k : x->T->first_active + k;
 }
 
-static void emit_sweep(tp_sbuf *b, const tp_tape *T, const unsigned char *ep,
-                       enum sweep s)
+static void open_chunk(void *ctx, tp_sbuf *b, unsigned c, uint32_t lo,
+                       uint32_t hi)
+{
+    const sweep_ctx *x = ctx;
+    char sig[96];
+    uint32_t k;
+    bool any = false;
+    snprintf(sig, sizeof sig, "void %s_%u(const tp_kx *x, uint32_t end)",
+             sweep_name[x->s], c);
+    tp__chunk_begin(b, c, sig);
+    tp__sbuf_puts(b, "    tp_kx y = *x;\n    y.K = K;\n    (void)end;\n");
+    if (x->s != SW_REV1)
+        return;
+    /* entry points: end == i + 1 starts at op i, where label e(i+1) is */
+    for (k = lo; k < hi; k++) {
+        const uint32_t i = stmt_op(x, k);
+        if (i + 1 < x->T->n_ops && x->ep[i + 1]) {
+            if (!any)
+                tp__sbuf_puts(b, "switch (end) {\n");
+            any = true;
+            tp__sbuf_printf(b, "case %uu: goto e%u;\n", i + 1, i + 1);
+        }
+    }
+    if (any)
+        tp__sbuf_puts(b, "default: break;\n}\n");
+}
+
+/* A sweep's statements: an op each; the value sweep returns before op i
+ * where end can fall, the gradient sweep's entry labels stay out of
+ * loops. */
+static int emit_sweep(tp_sbuf *b, const tp_tape *T, const unsigned char *ep,
+                      enum sweep s, bool loops)
 {
     const uint32_t lo = T->first_active, n = T->n_ops;
-    const uint32_t nc = (n - lo + CHUNK - 1) / CHUNK;
-    uint32_t c;
-    for (c = 0; c < nc; c++)
-        emit_chunk(b, T, ep, s, c, lo + c * CHUNK,
-                   lo + (c + 1) * CHUNK < n ? lo + (c + 1) * CHUNK : n);
+    sweep_ctx x = {T, ep, s};
+    tp_seq q;
+    uint32_t k, *clo = NULL;
+    unsigned nc = 0, c;
+    int st;
+    memset(&q, 0, sizeof q);
+    for (k = 0; k < n - lo; k++) {
+        const uint32_t i = stmt_op(&x, k);
+        bool fixed = false;
+        if (s != SW_REV1 && i > lo && ep[i])
+            tp__sbuf_printf(&q.text, "if (end <= %uu) return;\n", i);
+        if (s == SW_REV1 && i + 1 < n && ep[i + 1]) {
+            tp__sbuf_printf(&q.text, "e%u:\n", i + 1);
+            fixed = true;
+        }
+        emit_op(&q.text, T, s, i);
+        tp__seq_close(&q, fixed);
+    }
+    st = tp__seq_emit(&q, b, loops, open_chunk, &x, &clo, &nc);
+    tp__seq_free(&q);
+    if (st != TP_OK) {
+        free(clo);
+        return st;
+    }
     tp__sbuf_printf(b, "#if TPC_PART == 0\n"
                        "TPC_EXPORT void tpc_%s(const tp_kx *x, uint32_t end)\n{\n",
                     sweep_name[s]);
     if (s == SW_REV1) {
-        for (c = nc; c-- > 0;)
+        /* chunk c holds ops down to the one of its last statement; chunk
+         * 0 the highest (the sweep runs backwards) */
+        for (c = 0; c < nc; c++) {
+            const uint32_t last = c + 1 < nc ? clo[c + 1] - 1 : n - lo - 1;
             tp__sbuf_printf(b, "    if (end > %uu) %s_%u(x, end);\n",
-                            lo + c * CHUNK, sweep_name[s], c);
+                            stmt_op(&x, last), sweep_name[s], c);
+        }
     } else {
         for (c = 0; c < nc; c++)
             tp__sbuf_printf(b, "    if (end <= %uu) return;\n    %s_%u(x, end);\n",
-                            lo + c * CHUNK, sweep_name[s], c);
+                            stmt_op(&x, clo[c]), sweep_name[s], c);
     }
     tp__sbuf_puts(b, "    (void)x;\n    (void)end;\n}\n#endif\n");
+    free(clo);
+    return b->failed ? TP_ERR_NOMEM : TP_OK;
 }
 
 void tp__chunk_begin(tp_sbuf *b, unsigned c, const char *sig)
@@ -195,7 +224,7 @@ static void emit_double(tp_sbuf *b, double c)
 }
 
 int tp__emit_c(const tp_tape *T, int P, int lagrange_out, unsigned sweeps,
-               tp_sbuf *b)
+               bool loops, tp_sbuf *b)
 {
     unsigned char *ep = end_points(T);
     const char *const *line;
@@ -250,18 +279,18 @@ int tp__emit_c(const tp_tape *T, int P, int lagrange_out, unsigned sweeps,
                   "const double *aux, uint32_t i, unsigned op, uint32_t u, "
                   "uint32_t t, tp_partials *d)\n"
                   "{\n    tp__gen_partials(K, v, aux, i, op, u, t, d);\n}\n");
-    for (s = 0; s < SW_COUNT; s++)
+    for (s = 0; s < SW_COUNT && st == TP_OK; s++)
         if (sweeps & sweep_bit[s])
-            emit_sweep(b, T, ep, (enum sweep)s);
+            st = emit_sweep(b, T, ep, (enum sweep)s, loops);
     if (lagrange_out >= 0 || (sweeps & TP_SWEEP_JACOBIAN))
         tp__emit_blocks_common(P, b);
-    if (lagrange_out >= 0)
+    if (st == TP_OK && lagrange_out >= 0)
         st = tp__emit_lagrange(T, lagrange_out, (int)T->n_indep / 2,
-                               (int)T->n_indep / 2, P, b);
+                               (int)T->n_indep / 2, P, loops, b);
     if (st == TP_OK && (sweeps & TP_SWEEP_JACOBIAN))
-        st = tp__emit_jacobian(T, P, b);
+        st = tp__emit_jacobian(T, P, loops, b);
     if (st == TP_OK && (sweeps & TP_SWEEP_TAYLOR2))
-        st = tp__emit_taylor2(T, b);
+        st = tp__emit_taylor2(T, loops, b);
     tp__sbuf_printf(b,
                     "#if TPC_PART == 0\n"
                     "TPC_EXPORT const int tpc_format = %d;\n"
@@ -283,7 +312,8 @@ int tp_tape_emit_c(const tp_tape *t, FILE *out)
     int st;
     if (!t || !out)
         return TP_ERR_NULL;
-    st = tp__emit_c(t, 0, -1, TP_SWEEP_VALUES | TP_SWEEP_GRADIENTS, &b);
+    st = tp__emit_c(t, 0, -1, TP_SWEEP_VALUES | TP_SWEEP_GRADIENTS, true,
+                    &b);
     if (st == TP_OK && fwrite(b.p, 1, b.len, out) != b.len)
         st = TP_ERR_SIZE;
     tp__sbuf_free(&b);

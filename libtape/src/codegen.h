@@ -10,9 +10,12 @@
 #include "sweep_ops.h"
 #include "tape_internal.h"
 
-/* Bumped whenever the generated source's interface changes (the entry
- * points, tp_kx); part of the cache key and checked on load. */
-#define TP_CODEGEN_FORMAT 3
+/* Bumped whenever the generated source's interface or the generator's
+ * way of writing it changes (the entry points, tp_kx; 4: repeated runs
+ * as loops, codegen_loops.c); part of the cache key (beside the source
+ * itself) and checked on load, so that no object a former generator
+ * built is loaded. */
+#define TP_CODEGEN_FORMAT 4
 
 /* A growing string; after a failed allocation `failed` is set and further
  * appends do nothing. */
@@ -23,6 +26,7 @@ typedef struct tp_sbuf {
 } tp_sbuf;
 
 void tp__sbuf_puts(tp_sbuf *b, const char *s);
+void tp__sbuf_putn(tp_sbuf *b, const char *s, size_t n); /* n bytes of s */
 void tp__sbuf_printf(tp_sbuf *b, const char *fmt, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 2, 3)))
@@ -41,9 +45,10 @@ extern const char *const tp__kernel_text[];
  * every independent (tpc_jacobian, it needs P) and the Taylor sweep
  * (tpc_taylor2) to include (TP_SWEEP_VALUES, _GRADIENTS, _JACOBIAN,
  * _TAYLOR2); with lagrange_out >= 0 the Lagrange block of that output is
- * included too (it needs P). */
+ * included too (it needs P). loops: repeated runs of statements as loops
+ * (codegen_loops.c), else straight-line code. */
 int tp__emit_c(const tp_tape *T, int P, int lagrange_out, unsigned sweeps,
-               tp_sbuf *b);
+               bool loops, tp_sbuf *b);
 
 /* What the blocks below share (the row width PW, the row functions, the
  * row macros and chunk arguments), emitted once before them. */
@@ -55,19 +60,19 @@ void tp__emit_blocks_common(int P, tp_sbuf *b);
  * independents first .. first + count - 1, rows P wide. TP_ERR_SIZE when
  * the block is not made of whole dependency groups. */
 int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
-                      int P, tp_sbuf *b);
+                      int P, bool loops, tp_sbuf *b);
 
 /* The Jacobian block (codegen_lagrange.c): the function
  * tpc_jacobian(v, aux, tan) giving the values of every output's cone and
  * their tangent rows for unit directions on every independent, rows P
  * wide. */
-int tp__emit_jacobian(const tp_tape *T, int P, tp_sbuf *b);
+int tp__emit_jacobian(const tp_tape *T, int P, bool loops, tp_sbuf *b);
 
 /* The Taylor sweep (codegen_taylor.c): the function
  * tpc_taylor2(v, aux, d1, d2, dir) giving the values and the first and
  * second Taylor coefficients along dir of every output's cone, as
  * tp__taylor2 does. */
-int tp__emit_taylor2(const tp_tape *T, tp_sbuf *b);
+int tp__emit_taylor2(const tp_tape *T, bool loops, tp_sbuf *b);
 
 /* A chunk function (a run of a sweep's ops) opens with its prototype sig
  * ("void lg_3(LG_ARGS)") and its definition, compiled only in part
@@ -76,6 +81,29 @@ int tp__emit_taylor2(const tp_tape *T, tp_sbuf *b);
  * the entry points and exported data. TP_CHUNK_END closes it. */
 void tp__chunk_begin(tp_sbuf *b, unsigned c, const char *sig);
 #define TP_CHUNK_END "}\n#endif\n"
+
+/* A sweep's statements, one per op, before they are written
+ * (codegen_loops.c): append a statement's text to text, then close it. */
+typedef struct tp_seq {
+    tp_sbuf text;         /* the statements, one after another */
+    size_t *end;          /* end[k]: one past statement k in text */
+    unsigned char *fixed; /* statement k stays out of loops (a label) */
+    uint32_t n, cap;      /* statements, room */
+    bool failed;          /* out of memory */
+} tp_seq;
+void tp__seq_close(tp_seq *s, bool fixed);
+void tp__seq_free(tp_seq *s);
+/* Writes chunk c's opening for statements lo .. hi - 1 (tp__chunk_begin
+ * and what the chunk declares). */
+typedef void (*tp_seq_open)(void *ctx, tp_sbuf *b, unsigned c, uint32_t lo,
+                            uint32_t hi);
+/* The statements of s into b as chunk functions (each opened by open,
+ * closed by TP_CHUNK_END), repeated runs as loops unless loops is false
+ * (then straight-line, one statement after another). *chunk_lo (malloc'd,
+ * the caller frees) gets each chunk's first statement, *nchunks their
+ * count. TP_OK or TP_ERR_NOMEM. */
+int tp__seq_emit(const tp_seq *s, tp_sbuf *b, bool loops, tp_seq_open open,
+                 void *ctx, uint32_t **chunk_lo, unsigned *nchunks);
 
 /* The compiler (compile_run.c). The command cc's first word is resolved
  * through PATH to the real path of the file that runs (exe, at most len

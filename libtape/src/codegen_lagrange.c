@@ -399,36 +399,48 @@ static void emit_reverse(lg *g, uint32_t i)
 
 /* ---- the functions ----------------------------------------------------- */
 
-/* Chunks: the ops of one phase split into functions of at most CHUNK
- * ops, as in codegen.c. */
-#define CHUNK 256
-/* Op i of a phase (its forward or its reverse code) into the open chunk,
- * opening one first if none is. */
-static void chunk_op(lg *g, int *nchunk, int *inchunk, bool reverse,
-                     uint32_t i)
+/* The ops of one phase: each op's statement (its forward or its reverse
+ * code) collected, then written as chunk functions <prefix>_<k>, k from
+ * *nchunk on, repeated runs as loops (codegen_loops.c). */
+typedef struct phase_ctx {
+    const char *prefix;
+    int base; /* the first chunk's number */
+} phase_ctx;
+
+static void open_phase_chunk(void *ctx, tp_sbuf *b, unsigned c, uint32_t lo,
+                             uint32_t hi)
 {
-    if (*inchunk == 0) {
-        char sig[64];
-        snprintf(sig, sizeof sig, "void %s_%d(LG_ARGS)", g->prefix,
-                 *nchunk);
-        tp__chunk_begin(g->b, (unsigned)(*nchunk)++, sig);
-        tp__sbuf_puts(g->b, "LG_BEGIN\n");
-    }
+    const phase_ctx *x = ctx;
+    char sig[64];
+    (void)lo;
+    (void)hi;
+    snprintf(sig, sizeof sig, "void %s_%d(LG_ARGS)", x->prefix,
+             x->base + (int)c);
+    tp__chunk_begin(b, (unsigned)x->base + c, sig);
+    tp__sbuf_puts(b, "LG_BEGIN\n");
+}
+
+static void phase_op(lg *g, tp_seq *q, bool reverse, uint32_t i)
+{
+    g->b = &q->text;
     if (reverse)
         emit_reverse(g, i);
     else
         emit_forward(g, i);
-    if (++*inchunk == CHUNK) {
-        tp__sbuf_puts(g->b, TP_CHUNK_END);
-        *inchunk = 0;
-    }
+    tp__seq_close(q, false);
 }
 
-static void chunk_close(lg *g, int *inchunk)
+static int phase_end(lg *g, tp_seq *q, tp_sbuf *b, bool loops, int *nchunk)
 {
-    if (*inchunk)
-        tp__sbuf_puts(g->b, TP_CHUNK_END);
-    *inchunk = 0;
+    phase_ctx x = {g->prefix, *nchunk};
+    uint32_t *clo = NULL;
+    unsigned nc = 0;
+    const int st = tp__seq_emit(q, b, loops, open_phase_chunk, &x, &clo, &nc);
+    free(clo);
+    tp__seq_free(q);
+    g->b = b;
+    *nchunk += (int)nc;
+    return st;
 }
 
 /* The seeded groups of unit directions on independents first .. first +
@@ -497,12 +509,13 @@ void tp__emit_blocks_common(int P, tp_sbuf *b)
 }
 
 int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
-                      int P, tp_sbuf *b)
+                      int P, bool loops, tp_sbuf *b)
 {
     const uint32_t o = T->out_slot[out], n = T->n_indep;
     lg g;
+    tp_seq q;
     uint32_t i;
-    int k, nchunk = 0, inchunk = 0;
+    int k, nchunk = 0;
     int st = lg_init(&g, T, first, count, P, "lg", b);
     if (st != TP_OK)
         return st;
@@ -511,15 +524,24 @@ int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
         tp__cone(T, o, g.need);
     }
     /* forward over the cone, then reverse from the output */
+    memset(&q, 0, sizeof q);
     for (i = T->first_active; i <= o && o >= T->first_active; i++)
         if (g.need[i])
-            chunk_op(&g, &nchunk, &inchunk, false, i);
-    chunk_close(&g, &inchunk);
+            phase_op(&g, &q, false, i);
+    st = phase_end(&g, &q, b, loops, &nchunk);
     g.aw[o] = 1; /* seeded by the entry function */
-    for (i = o + 1; i-- > T->first_active && o >= T->first_active;)
+    for (i = o + 1; st == TP_OK && i-- > T->first_active &&
+                    o >= T->first_active;)
         if (g.need[i] && g.aw[i])
-            chunk_op(&g, &nchunk, &inchunk, true, i);
-    chunk_close(&g, &inchunk);
+            phase_op(&g, &q, true, i);
+    if (st == TP_OK)
+        st = phase_end(&g, &q, b, loops, &nchunk);
+    else
+        tp__seq_free(&q);
+    if (st != TP_OK) {
+        free(g.need);
+        return st;
+    }
     tp__sbuf_puts(b, "#if TPC_PART == 0\n"
                      "TPC_EXPORT void tpc_lagrange(LG_ARGS, double *restrict "
                      "gr, double *restrict H)\n{\n");
@@ -549,21 +571,26 @@ int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
     return b->failed ? TP_ERR_NOMEM : TP_OK;
 }
 
-int tp__emit_jacobian(const tp_tape *T, int P, tp_sbuf *b)
+int tp__emit_jacobian(const tp_tape *T, int P, bool loops, tp_sbuf *b)
 {
     const int count = (int)T->n_indep;
     lg g;
+    tp_seq q;
     uint32_t i, top;
-    int k, nchunk = 0, inchunk = 0;
+    int k, nchunk = 0;
     int st = lg_init(&g, T, 0, count, P, "jc", b);
     if (st != TP_OK)
         return st;
     /* the cone of every output, forward once */
     top = tp__outputs_cone(T, g.need);
+    memset(&q, 0, sizeof q);
     for (i = T->first_active; i < top; i++)
         if (g.need[i])
-            chunk_op(&g, &nchunk, &inchunk, false, i);
-    chunk_close(&g, &inchunk);
+            phase_op(&g, &q, false, i);
+    if ((st = phase_end(&g, &q, b, loops, &nchunk)) != TP_OK) {
+        free(g.need);
+        return st;
+    }
     tp__sbuf_puts(b, "#if TPC_PART == 0\n"
                      "TPC_EXPORT void tpc_jacobian(double *restrict v, "
                      "double *restrict aux, double *restrict tan)\n{\n");

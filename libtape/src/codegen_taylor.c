@@ -112,45 +112,56 @@ static void emit_coefficients(tp_sbuf *b, const tp_tape *T, uint32_t i)
                         i, u, i, u, u, u);
 }
 
-/* Chunks of at most CHUNK ops, as in codegen.c. */
-#define CHUNK 256u
+static void open_chunk(void *ctx, tp_sbuf *b, unsigned c, uint32_t lo,
+                       uint32_t hi)
+{
+    char sig[64];
+    (void)ctx;
+    (void)lo;
+    (void)hi;
+    snprintf(sig, sizeof sig, "void ty_%u(TY_ARGS)", c);
+    tp__chunk_begin(b, c, sig);
+    tp__sbuf_puts(b, "tp_kx y; tp_partials d; memset(&y, 0, sizeof "
+                     "y); y.K = K; y.v = v; y.aux = aux; (void)d;\n");
+}
 
-int tp__emit_taylor2(const tp_tape *T, tp_sbuf *b)
+int tp__emit_taylor2(const tp_tape *T, bool loops, tp_sbuf *b)
 {
     unsigned char *need = calloc((size_t)T->n_ops + 1, 1);
-    uint32_t i, end, in = 0, nchunk = 0;
+    uint32_t i, end, *clo = NULL;
+    unsigned nchunk = 0;
+    tp_seq q;
+    int st;
     if (!need)
         return TP_ERR_NOMEM;
     end = tp__outputs_cone(T, need);
     tp__sbuf_puts(b, "#define TY_ARGS double *restrict v, double *restrict "
                      "aux, double *restrict d1, double *restrict d2\n");
+    memset(&q, 0, sizeof q);
     for (i = T->first_active; i < end; i++) {
         const unsigned op = T->opc[i];
         if (!need[i])
             continue;
-        if (in == 0) {
-            char sig[64];
-            snprintf(sig, sizeof sig, "void ty_%u(TY_ARGS)", nchunk);
-            tp__chunk_begin(b, nchunk++, sig);
-            tp__sbuf_puts(b, "tp_kx y; tp_partials d; memset(&y, 0, sizeof "
-                             "y); y.K = K; y.v = v; y.aux = aux; (void)d;\n");
-        }
         /* the value, as the value sweep computes it */
         if (strcmp(tp__op_fn_name(op), "GEN") == 0)
-            tp__sbuf_printf(b, "tpc_value_GEN(v, aux, %uu, %u, %uu, %uu, %uu);\n",
+            tp__sbuf_printf(&q.text,
+                            "tpc_value_GEN(v, aux, %uu, %u, %uu, %uu, %uu);\n",
                             i, op, (unsigned)T->dep[i], T->a0[i], T->a1[i]);
         else
-            tp__sbuf_printf(b, "tp__value_%s(&y, %uu, %u, %uu, %uu, %uu);\n",
+            tp__sbuf_printf(&q.text,
+                            "tp__value_%s(&y, %uu, %u, %uu, %uu, %uu);\n",
                             tp__op_fn_name(op), i, op, (unsigned)T->dep[i],
                             T->a0[i], T->a1[i]);
-        emit_coefficients(b, T, i);
-        if (++in == CHUNK) {
-            tp__sbuf_puts(b, TP_CHUNK_END);
-            in = 0;
-        }
+        emit_coefficients(&q.text, T, i);
+        tp__seq_close(&q, false);
     }
-    if (in)
-        tp__sbuf_puts(b, TP_CHUNK_END);
+    st = tp__seq_emit(&q, b, loops, open_chunk, NULL, &clo, &nchunk);
+    tp__seq_free(&q);
+    free(clo);
+    if (st != TP_OK) {
+        free(need);
+        return st;
+    }
     /* the entry: the independents' coefficients, then the chunks (those
      * of parameters and passive ops stay zero, as in the interpreter) */
     tp__sbuf_printf(b,

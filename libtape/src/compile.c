@@ -873,7 +873,12 @@ int tp_compile(const tp_tape *t, const tp_compile_opts *o,
                   "/ 2 and an output of the tape");
         return TP_ERR_SIZE;
     }
-    rc = tp__emit_c(t, P, lout, sweeps, &src);
+    {
+        const char *cg = getenv("AUTOEOM_CODEGEN");
+        const bool straight = (o && o->straight) ||
+                              (cg && strcmp(cg, "straight") == 0);
+        rc = tp__emit_c(t, P, lout, sweeps, !straight, &src);
+    }
     if (rc != TP_OK) {
         tp__sbuf_free(&src);
         say(info, rc == TP_ERR_NOMEM

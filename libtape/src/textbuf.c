@@ -41,6 +41,15 @@ void tp__sbuf_puts(tp_sbuf *b, const char *s)
     b->len += n;
 }
 
+void tp__sbuf_putn(tp_sbuf *b, const char *s, size_t n)
+{
+    if (!reserve(b, n))
+        return;
+    memcpy(b->p + b->len, s, n);
+    b->len += n;
+    b->p[b->len] = '\0';
+}
+
 void tp__sbuf_printf(tp_sbuf *b, const char *fmt, ...)
 {
     va_list ap;

@@ -474,6 +474,13 @@ typedef struct tp_compile_opts {
      * online, at most 8). A large tape is built in parts side by side,
      * about one for every 500 ops, and linked; 1: in one piece. */
     int jobs;
+    /* 1: write every sweep straight-line, one statement per op, as
+     * libtape did before repeated runs became loops (for comparison: the
+     * source grows with the tape; also set by the environment's
+     * AUTOEOM_CODEGEN=straight). 0 (the default): runs of statements that
+     * repeat with shifted slots (a chain's links) are written once, as
+     * loops. Both give the same results bit for bit. */
+    int straight;
 } tp_compile_opts;
 #define TP_SWEEP_VALUES 1u
 #define TP_SWEEP_GRADIENTS 2u
