@@ -48,7 +48,8 @@
 #include "cholesky_blocked.h"
 #include "eom/eom.h"
 
-#define EOM_MSG_LEN 256
+/* room for a sentence that names constraint rows (eom_constraint_rank) */
+#define EOM_MSG_LEN 1024
 /* The tape parameter that carries the time on the E and R tapes (and,
  * while it is first recorded, on the L and phi tapes): not a C
  * identifier, so no model parameter can take its name. */

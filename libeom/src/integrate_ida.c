@@ -704,6 +704,20 @@ static int ida_advance(eom_integ *it, double tout)
         return status;
     }
     /* it->y keeps the state at the last output time */
+    if (it->refuse_singular && it->s->m > 0 && it->s->rcond_S < 1e-2 &&
+        (flag == IDA_CONV_FAIL || flag == IDA_ERR_FAIL)) {
+        /* failed close to a singular position, before any evaluation
+         * there needed the filtered solve: the stretch is bdf's, as at a
+         * refusal (integrate_handover.c). Measured: the parallelogram in
+         * relative angles at rtol 1e-10 (test_parallelogram.c), Newton
+         * failing at t = 19.786 with h = 6.6e-12, rcond 1.1e-5. */
+        it->t_refused = tcur;
+        return eom__integ_fail(it, EOM_ERR_RANK_DEFICIENT,
+                               "ida: %s at t = %.17g near a singular "
+                               "position (rcond of C M^-1 C^T %.2g)",
+                               IDAGetReturnFlagName(flag), tcur,
+                               it->s->rcond_S);
+    }
     status = eom__sun_failed(it, &d->rep, "ida", IDAGetReturnFlagName(flag),
                              tcur);
     {

@@ -111,6 +111,12 @@ void eom__integ_atol(const eom_integ *it, double *atol, int len);
  * constraints), with a message naming the time, the condition estimate,
  * the likely cause and the methods that can go on. */
 int eom__integ_rhs(eom_integ *it, double t, const double *y, double *yd);
+/* Appends to it->msg the constraint rows that depend on others at the
+ * state y (eom_constraint_rank's sentence: "rank 1 of 2 rows there:
+ * 'rod2' = 1 'rod'"), when there are any; nothing for a model whose
+ * n x m Jacobian is too large for a dense diagnostic (over 4e6 values).
+ * Changes the system's evaluation buffers. */
+void eom__integ_name_rows(eom_integ *it, const double *y);
 
 /* J = d(yd)/dy at (t, y), (2n + 1) square, column-major with leading
  * dimension ldj: the exact Jacobian from the residual tape, W's row

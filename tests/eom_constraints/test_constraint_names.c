@@ -15,6 +15,9 @@
  * (rank 1 of 2, "'rod2' = 2 'rod'"); full rank gives no dependent row
  * and an empty sentence; unnamed rows are "row K".
  *
+ * adams and ida refuse to start on the rod given twice, and name the
+ * rows ("rank 1 of 2 rows there: 'rod2' = 1 'rod'").
+ *
  * eom_multiplier: refused outside a probe and out of range; in a probe,
  * the multiplier of a row holding z against V = 3 z at rest is 3. */
 #include <stdio.h>
@@ -23,6 +26,7 @@
 
 #include "check.h"
 #include "eom/eom.h"
+#include "eom/model_file.h"
 
 static int T3(eom_ctx *c, void *user, tp_val *out)
 {
@@ -279,8 +283,52 @@ static void multiplier_refusals(void)
     eom_system_free(&s);
 }
 
+/* adams and ida cannot start on a singular constraint system: their
+ * refusal names the rows, here a pendulum's rod given twice */
+static void refused_by_name(void)
+{
+    static const char text[] =
+        "param m = 1 [kg]\n"
+        "coord x = 1 [m]\n"
+        "coord y = 0 [m]\n"
+        "T = m*(x_dot^2 + y_dot^2)/2\n"
+        "param g = 9.81 [m/s^2]\n"
+        "V = m*g*y\n"
+        "param l = 1 [m]\n"
+        "constraint rod = x^2 + y^2 - l^2\n"
+        "constraint rod2 = x^2 + y^2 - l^2\n";
+    static const eom_method methods[] = {EOM_ADAMS, EOM_IDA};
+    char err[1024];
+    eom_model *m = NULL;
+    eom_system *s = NULL;
+    eom_integ *it = NULL;
+    eom_opts o;
+    double x[4];
+    int k;
+    CHECK_INT(eom_model_from_string(&m, text, err, sizeof err), EOM_OK);
+    if (m)
+        CHECK_INT(eom_system_new(&s, m, err, sizeof err), EOM_OK);
+    eom_model_free(&m);
+    if (!s)
+        return;
+    CHECK_INT(eom_initial_state(s, x), EOM_OK);
+    for (k = 0; k < 2; k++) {
+        eom_opts_default(&o);
+        o.method = methods[k];
+        CHECK_INT(eom_integ_new(&it, s, &o, 0.0, x),
+                  EOM_ERR_RANK_DEFICIENT);
+        printf("%s: %s\n", eom_method_name(methods[k]),
+               eom_system_errmsg(s));
+        CHECK(strstr(eom_system_errmsg(s),
+                     "rank 1 of 2 rows there: 'rod2' = 1 'rod'") != NULL);
+        eom_integ_free(&it);
+    }
+    eom_system_free(&s);
+}
+
 int main(void)
 {
+    refused_by_name();
     multiplier_refusals();
     names();
     refusals();

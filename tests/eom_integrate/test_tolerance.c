@@ -148,7 +148,7 @@ static int expect_floor(const char *model, eom_method m, double tol)
     case EOM_BDF:
         return 0.02 * pow(tol, 1.2) < 3e-16;
     case EOM_IDA:
-        return 0.05 * pow(tol, 1.2) < (closed ? 1e-12 : 3e-16);
+        return 0.05 * pow(tol, 1.2) < (closed ? 1e-14 : 3e-16);
     case EOM_ESDIRK:
     case EOM_IMEX:
         return 0.05 * pow(tol, 1.2) < 3e-16;

@@ -693,7 +693,7 @@ typedef struct eom_stats {
                             instead of a tighter one asked for: its
                             calibration wanted a per-step tolerance below
                             what double precision allows (3e-16; with
-                            constraints 1e-12 for ida, 1e-10 for bdf near
+                            constraints 1e-14 for ida, 1e-10 for bdf near
                             singular positions) and held it at that floor,
                             which keeps the global error near this value
                             rather than near rtol and atol */
