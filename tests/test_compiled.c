@@ -20,7 +20,8 @@
  *      TP_ERR_COMPILE with a message that says which.
  *   3. Parts: a tape of about 1400 ops built by three compilers side by
  *      side (tp_compile_opts.jobs) against the interpreter as in 1, one
- *      of about 560 ops by two and by one; only
+ *      of about 560 ops by two and by one (straight-line code: the parts
+ *      follow the statements written); only
  *      some sweeps compiled (tp_compile_opts.sweeps): the source has those
  *      alone, and the others run interpreted with the same results.
  *   4. Misuse: a compiled tape on a workspace of another tape or width;
@@ -384,6 +385,9 @@ static void parts_and_sweeps(const char *dir)
     o.lagrange = 1;
     o.lagrange_out = 0;
     o.jobs = 3;
+    /* straight-line code: the parts follow the statements written, and
+     * loops would leave these tapes too few for three parts */
+    o.straight = 1;
     compiled_against_interpreter(t, &o, 3, "fwd0\0rev1\0lagrange\0", "",
                                  20);
     /* a shorter source in two parts and in one piece (other flags, so not
@@ -397,6 +401,7 @@ static void parts_and_sweeps(const char *dir)
     compiled_against_interpreter(tm, &o, 1, "fwd0\0rev1\0lagrange\0", "",
                                  5);
     /* some sweeps only; the rest run interpreted */
+    o.straight = 0;
     o.jobs = 0;
     o.cflags = NULL;
     o.lagrange = 0;

@@ -23,6 +23,8 @@ typedef struct tp_sbuf {
     char *p;
     size_t len, cap;
     bool failed;
+    size_t stmts; /* statements tp__seq_emit wrote into it (a loop's body
+                     once): what the compiler's time grows with */
 } tp_sbuf;
 
 void tp__sbuf_puts(tp_sbuf *b, const char *s);
@@ -98,7 +100,8 @@ void tp__seq_free(tp_seq *s);
 typedef void (*tp_seq_open)(void *ctx, tp_sbuf *b, unsigned c, uint32_t lo,
                             uint32_t hi);
 /* The statements of s into b as chunk functions (each opened by open,
- * closed by TP_CHUNK_END), repeated runs as loops unless loops is false
+ * closed by TP_CHUNK_END; open NULL: no chunks, the statements go into
+ * the function being written), repeated runs as loops unless loops is false
  * (then straight-line, one statement after another). *chunk_lo (malloc'd,
  * the caller frees) gets each chunk's first statement, *nchunks their
  * count. TP_OK or TP_ERR_NOMEM. */

@@ -549,18 +549,33 @@ int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
     tp__sbuf_printf(b, "adj[%u] = 1.0;\n", o);
     for (k = 0; k < nchunk; k++)
         tp__sbuf_printf(b, "lg_%d(v, aux, tan, at, adj);\n", k);
-    /* results: the independents' adjoints and rows, zero where none came */
+    /* results: the independents' adjoints and rows, zero where none came
+     * (a statement each, repeated runs as loops) */
+    memset(&q, 0, sizeof q);
     for (i = 0; i < n; i++) {
         if (g.aw[i])
-            tp__sbuf_printf(b, "gr[%u] = adj[%u];\n", i, i);
+            tp__sbuf_printf(&q.text, "gr[%u] = adj[%u];\n", i, i);
         else
-            tp__sbuf_printf(b, "gr[%u] = 0.0;\n", i);
+            tp__sbuf_printf(&q.text, "gr[%u] = 0.0;\n", i);
         if (g.rw[i])
-            tp__sbuf_printf(b, "memcpy(H + %u, A_(%u), %d * sizeof(double));\n",
+            tp__sbuf_printf(&q.text,
+                            "memcpy(H + %u, A_(%u), %d * sizeof(double));\n",
                             i * (uint32_t)count, i, count);
         else
-            tp__sbuf_printf(b, "memset(H + %u, 0, %d * sizeof(double));\n",
+            tp__sbuf_printf(&q.text, "memset(H + %u, 0, %d * sizeof(double));\n",
                             i * (uint32_t)count, count);
+        tp__seq_close(&q, false);
+    }
+    {
+        uint32_t *clo = NULL;
+        unsigned nc = 0;
+        st = tp__seq_emit(&q, b, loops, NULL, NULL, &clo, &nc);
+        free(clo);
+        tp__seq_free(&q);
+        if (st != TP_OK) {
+            free(g.need);
+            return st;
+        }
     }
     tp__sbuf_printf(b,
                     "(void)v;\n(void)aux;\n}\n"

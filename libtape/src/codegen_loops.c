@@ -518,6 +518,17 @@ int tp__seq_emit(const tp_seq *s, tp_sbuf *b, bool loops, tp_seq_open open,
         st = TP_ERR_NOMEM;
         goto done;
     }
+    if (!open) { /* inside the function being written */
+        for (k = 0; k < ni; k++) {
+            b->stmts += it[k].p;
+            if (it[k].reps < 2)
+                write_stmt(&P, b, it[k].at, &it[k], 0, NULL);
+            else if ((st = write_loop(&P, b, &it[k], &ntab)) != TP_OK)
+                goto done;
+        }
+        st = b->failed ? TP_ERR_NOMEM : TP_OK;
+        goto done;
+    }
     for (k = 0; k < ni;) {
         /* a chunk: items while their bodies fit, at least one */
         uint32_t e = k, cost = 0, hi;
@@ -529,6 +540,7 @@ int tp__seq_emit(const tp_seq *s, tp_sbuf *b, bool loops, tp_seq_open open,
         lo[nc] = it[k].at;
         open(ctx, b, nc, it[k].at, hi);
         for (; k < e; k++) {
+            b->stmts += it[k].p;
             if (it[k].reps < 2)
                 write_stmt(&P, b, it[k].at, &it[k], 0, NULL);
             else if ((st = write_loop(&P, b, &it[k], &ntab)) != TP_OK)

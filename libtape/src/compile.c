@@ -785,13 +785,15 @@ done:
 
 #define LARGE_TAPE 500u
 
-/* How many compilers build t side by side: one part for about every 500
- * ops (a part's compiler takes about half a second for them at -O1; fewer
- * ops would not pay for the extra link), at most the jobs allowed. */
-static int build_parts(const tp_tape *t, const tp_compile_opts *o)
+/* How many compilers build a source of stmts statements (tp_sbuf.stmts:
+ * a loop's body counted once) side by side: one part for about every 500
+ * (a part's compiler takes about half a second for them at -O1; fewer
+ * would not pay for the extra link and the kernels each part compiles
+ * again), at most the jobs allowed. */
+static int build_parts(size_t stmts, const tp_compile_opts *o)
 {
     long jobs = o && o->jobs > 0 ? o->jobs : sysconf(_SC_NPROCESSORS_ONLN);
-    long parts = 1 + (long)(t->n_ops / LARGE_TAPE);
+    long parts = 1 + (long)(stmts / LARGE_TAPE);
     if (jobs < 1)
         jobs = 1;
     if (parts > jobs)
@@ -947,7 +949,7 @@ int tp_compile(const tp_tape *t, const tp_compile_opts *o,
     }
     if (have == -1)
         info->rebuilt = 1;
-    info->parts = build_parts(t, o);
+    info->parts = build_parts(src.stmts, o);
     if (build(dfd, canon, base, key, &src, exe, cc, flags, info->parts, copy,
               sizeof copy, info) != 0) {
         rc = TP_ERR_COMPILE;

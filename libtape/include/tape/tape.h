@@ -472,7 +472,8 @@ typedef struct tp_compile_opts {
     unsigned sweeps;
     /* How many compilers may build the tape at once (0: the processors
      * online, at most 8). A large tape is built in parts side by side,
-     * about one for every 500 ops, and linked; 1: in one piece. */
+     * about one for every 500 statements of its source, and linked; 1:
+     * in one piece. */
     int jobs;
     /* 1: write every sweep straight-line, one statement per op, as
      * libtape did before repeated runs became loops (for comparison: the
