@@ -99,14 +99,21 @@ static int measure(int links, int modes, double min_batch, int reps,
 
 static int write_plot(const char *dir, const point *p, int np)
 {
-    char path[512], err[256];
+    char path[512], err[1024];
+    eom_csv_writer *w = NULL;
     FILE *f;
     int k, i, kmax = 0;
     for (i = 0; i < np; i++)
         kmax = p[i].modes > kmax ? p[i].modes : kmax;
+    /* both files through the run layer's text writer: created beside
+     * their names and renamed onto them whole, a symbolic link at a name
+     * replaced, never followed */
     snprintf(path, sizeof path, "%s/growth.dat", dir);
-    if (!(f = fopen(path, "w")))
+    if (eom_csv_writer_open_text(&w, path, err, sizeof err) != 0) {
+        fprintf(stderr, "bench-growth: %s\n", err);
         return -1;
+    }
+    f = eom_csv_writer_stream(w);
     for (k = 0; k <= kmax; k++) {
         fprintf(f, "# modes %d: links n ops record_s rhs_s\n", k);
         for (i = 0; i < np; i++)
@@ -115,10 +122,16 @@ static int write_plot(const char *dir, const point *p, int np)
                         p[i].ops, p[i].t_record, p[i].t_rhs);
         fprintf(f, "\n\n");
     }
-    fclose(f);
-    snprintf(path, sizeof path, "%s/growth.gp", dir);
-    if (!(f = fopen(path, "w")))
+    if (eom_csv_writer_close(&w, err, sizeof err) != 0) {
+        fprintf(stderr, "bench-growth: %s\n", err);
         return -1;
+    }
+    snprintf(path, sizeof path, "%s/growth.gp", dir);
+    if (eom_csv_writer_open_text(&w, path, err, sizeof err) != 0) {
+        fprintf(stderr, "bench-growth: %s\n", err);
+        return -1;
+    }
+    f = eom_csv_writer_stream(w);
     fprintf(f,
             "# growth of a chain's cost with links and modes "
             "(bench-growth)\n"
@@ -140,7 +153,10 @@ static int write_plot(const char *dir, const point *p, int np)
             "1e-8*x**2 dashtype 2 title 'n^2'\n"
             "  unset multiplot\n"
             "}\n", kmax, kmax);
-    fclose(f);
+    if (eom_csv_writer_close(&w, err, sizeof err) != 0) {
+        fprintf(stderr, "bench-growth: %s\n", err);
+        return -1;
+    }
     if (eom_gnuplot_run(dir, "growth.gp", err, sizeof err) != 0) {
         fprintf(stderr, "bench-growth: %s\n", err);
         return -1;

@@ -36,6 +36,7 @@
 #include <sys/stat.h>
 
 #include "demos.h"
+#include "eom/run.h"
 #include "wp_interp.h"
 #include "wp_plot.h"
 #include "wp_sweep.h"
@@ -155,26 +156,31 @@ static void report_start(const char *name, eom_system *s, const double *x0)
             name, r, rd);
 }
 
-/* Open dir/name for writing, or say why not. */
+/* Open dir/name for writing through the run layer's text writer
+ * (created exclusively beside it, renamed onto it whole, a symbolic link
+ * at the name replaced, never followed), or say why not. */
 static FILE *open_in(const char *dir, const char *name, char *path,
-                     size_t len)
+                     size_t len, eom_csv_writer **w)
 {
-    FILE *f = NULL;
+    char err[1024];
     const int n = snprintf(path, len, "%s/%s", dir, name);
-    if (n < 0 || (size_t)n >= len)
+    if (n < 0 || (size_t)n >= len) {
         fprintf(stderr, "bench-wp: the path '%s/%s' is too long\n", dir,
                 name);
-    else if (!(f = fopen(path, "w")))
-        fprintf(stderr, "bench-wp: cannot write '%s': %s\n", path,
-                strerror(errno));
-    return f;
+        return NULL;
+    }
+    if (eom_csv_writer_open_text(w, path, err, sizeof err) != 0) {
+        fprintf(stderr, "bench-wp: %s\n", err);
+        return NULL;
+    }
+    return eom_csv_writer_stream(*w);
 }
 
-static int close_in(FILE *f, const char *path)
+static int close_in(eom_csv_writer **w)
 {
-    const int bad = ferror(f);
-    if (fclose(f) != 0 || bad) {
-        fprintf(stderr, "bench-wp: cannot write '%s'\n", path);
+    char err[1024];
+    if (eom_csv_writer_close(w, err, sizeof err) != 0) {
+        fprintf(stderr, "bench-wp: %s\n", err);
         return -1;
     }
     return 0;
@@ -186,12 +192,13 @@ static int close_in(FILE *f, const char *path)
 static int write_outputs(const char *dir, const wp_sweep *w, int plots)
 {
     char err[1024], name[256], path[4096];
+    eom_csv_writer *cw = NULL;
     FILE *f;
     snprintf(name, sizeof name, "%s.md", w->demo);
-    if (!(f = open_in(dir, name, path, sizeof path)))
+    if (!(f = open_in(dir, name, path, sizeof path, &cw)))
         return -1;
     wp_table_write(f, w);
-    if (close_in(f, path) != 0)
+    if (close_in(&cw) != 0)
         return -1;
     if (wp_plot_files(dir, w, err, sizeof err) != 0) {
         fprintf(stderr, "bench-wp: %s\n", err);
@@ -208,12 +215,13 @@ static int write_outputs(const char *dir, const wp_sweep *w, int plots)
 static int write_summary_file(const char *dir, const wp_sweep *w, int nw)
 {
     char path[4096];
-    FILE *f = open_in(dir, "summary.md", path, sizeof path);
+    eom_csv_writer *cw = NULL;
+    FILE *f = open_in(dir, "summary.md", path, sizeof path, &cw);
     if (!f)
         return -1;
     wp_summary_write(f, w, nw, targets,
                      (int)(sizeof targets / sizeof targets[0]));
-    return close_in(f, path);
+    return close_in(&cw);
 }
 
 /* The closed chain's target, printed and never asserted: an adaptive

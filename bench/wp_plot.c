@@ -7,7 +7,6 @@
  * numbers the script uses are those of the methods that can be drawn. */
 #include "wp_plot.h"
 
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -26,23 +25,21 @@ static int path_of(char *buf, size_t len, const char *dir, const char *demo,
     return 0;
 }
 
-static FILE *open_out(const char *path, char *err, size_t errlen)
+/* The file at path through the run layer's text writer: created
+ * exclusively beside it and renamed onto it whole, a symbolic link at
+ * path replaced, never followed. Its stream, or NULL with a message. */
+static FILE *open_out(const char *path, eom_csv_writer **w, char *err,
+                      size_t errlen)
 {
-    FILE *f = fopen(path, "w");
-    if (!f)
-        snprintf(err, errlen, "cannot open '%s' for writing: %s", path,
-                 strerror(errno));
-    return f;
+    if (eom_csv_writer_open_text(w, path, err, errlen) != 0)
+        return NULL;
+    return eom_csv_writer_stream(*w);
 }
 
-static int close_out(FILE *f, const char *path, char *err, size_t errlen)
+/* Put the file in place: 0, or -1 with a message. */
+static int close_out(eom_csv_writer **w, char *err, size_t errlen)
 {
-    const int bad = ferror(f);
-    if (fclose(f) != 0 || bad) {
-        snprintf(err, errlen, "cannot write to '%s'", path);
-        return -1;
-    }
-    return 0;
+    return eom_csv_writer_close(w, err, errlen) != 0 ? -1 : 0;
 }
 
 static int finished(const wp_run *r)
@@ -149,18 +146,19 @@ int wp_plot_files(const char *dir, const wp_sweep *w, char *err,
                   size_t errlen)
 {
     char path[4096];
+    eom_csv_writer *cw = NULL;
     FILE *f;
     if (path_of(path, sizeof path, dir, w->demo, ".dat", err, errlen) != 0 ||
-        !(f = open_out(path, err, errlen)))
+        !(f = open_out(path, &cw, err, errlen)))
         return -1;
     write_dat(f, w);
-    if (close_out(f, path, err, errlen) != 0)
+    if (close_out(&cw, err, errlen) != 0)
         return -1;
     if (path_of(path, sizeof path, dir, w->demo, ".gp", err, errlen) != 0 ||
-        !(f = open_out(path, err, errlen)))
+        !(f = open_out(path, &cw, err, errlen)))
         return -1;
     write_gp(f, w);
-    return close_out(f, path, err, errlen);
+    return close_out(&cw, err, errlen);
 }
 
 int wp_plot_draw(const char *dir, const wp_sweep *w, char *err,
