@@ -9,7 +9,8 @@
  *     the cache (warm), with the generated source's size;
  *   - one right-hand side: interpreted, compiled and, for rigid chains,
  *     hand-coded (chain_plain.c, the limit of a Lagrangian route), timed
- *     interleaved; medians of the per-repetition ratios; the largest
+ *     interleaved in processor time of the thread; medians of the
+ *     per-repetition ratios; the largest
  *     relative difference of the compiled qdd from the interpreted one.
  *
  * The cache is a temporary directory of this run; CC and AUTOEOM_CFLAGS
@@ -142,12 +143,14 @@ static void row(int links, int modes, int closed, int reps)
     if (modes == 0 && !closed && chain_plain_hand_new(&ch.hand, &cp) != 0)
         ch.hand = NULL;
     {
-        const long bi = bench_calibrate(call_rhs, &ci, 0.01);
-        const long bh = ch.hand ? bench_calibrate(call_hand, &ch, 0.01) : 0;
+        /* processor time of this thread: the machine may be shared */
+        const long bi = bench_calibrate_cpu(call_rhs, &ci, 0.01);
+        const long bh =
+            ch.hand ? bench_calibrate_cpu(call_hand, &ch, 0.01) : 0;
         for (k = 0; k < reps; k++) {
-            ti[k] = bench_time(call_rhs, &ci, bi);
-            tc[k] = bench_time(call_rhs, &cc, bi);
-            th[k] = ch.hand ? bench_time(call_hand, &ch, bh) : NAN;
+            ti[k] = bench_time_cpu(call_rhs, &ci, bi);
+            tc[k] = bench_time_cpu(call_rhs, &cc, bi);
+            th[k] = ch.hand ? bench_time_cpu(call_hand, &ch, bh) : NAN;
             rc[k] = ti[k] / tc[k];
             rh[k] = tc[k] / th[k];
         }
