@@ -60,6 +60,9 @@ void run_summary_print(const run_summary *r, FILE *f, const char *prog,
                                                     : "");
     fprintf(f, "  wall time %.3g s (integrator %.3g s)\n", wall,
             st->wall_time);
+    if (st->mass_route == EOM_MASS_CONSTANT)
+        fprintf(f, "  mass matrix: constant, formed and factored once "
+                "(docs/libeom.md, \"The mass matrix's route\")\n");
     if (st->tol_reachable > 0.0)
         fprintf(f, "  tolerance: tighter than %s allows this method's error "
                 "test; it keeps the error near %.2g instead (docs/"

@@ -238,6 +238,13 @@ struct eom_system {
                                 (jacobian_sparse.c), made on first use */
     struct eom_ssparse *ssp; /* bdf's sparse Jacobian's structure
                                 (state_jacobian_sparse.c), likewise */
+    struct eom_mass *mass; /* what the L tape says about M and the
+                              route it takes (mass_route.h), made on
+                              first use */
+    struct eom_kkt *kkt; /* eom_rhs's augmented sparse solve
+                            (kkt_sparse.c), made on first use */
+    unsigned long param_gen; /* advanced by every eom_set_param: a factor
+                                kept for constant M is for one value */
     eom_shared *shared;                  /* the tapes' owners */
     bool compiled;   /* the workspaces run the shared compiled tapes */
     double alpha, beta;                  /* Baumgarte */

@@ -11,6 +11,7 @@
 #include <time.h>
 
 #include "integrate_internal.h"
+#include "mass_route.h"
 
 static const char *const method_names[] = {"rk4", "erk",    "adams", "bdf",
                                            "ida", "esdirk", "imex"};
@@ -756,6 +757,7 @@ int eom_integ_stats(const eom_integ *it, eom_stats *st)
     st->failures += it->handed.failures;
     st->jac_evals += it->handed.jac_evals;
     st->linear_solver = it->linsol;
+    st->mass_route = eom__mass_route(it->s); /* mass_route.h */
     if (it->sub) {
         /* a stretch still under way */
         eom_stats b;

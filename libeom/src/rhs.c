@@ -33,6 +33,7 @@
 #include <string.h>
 
 #include "eom_internal.h"
+#include "mass_route.h"
 
 /* Below this reciprocal condition estimate of KLU's factor of S, the
  * multipliers come from a filtered SVD of S instead: redundant
@@ -457,22 +458,20 @@ int eom__nonconservative(eom_system *s, double t, const double *x)
     return forces_at(s, t, x);
 }
 
-int eom__evaluate(eom_system *s, double t, const double *x)
+int eom__evaluate_free(eom_system *s, double t, const double *x,
+                       int factor)
 {
-    const int n = s->n, m = s->m;
-    const double *qd = x + n;
-    int i, j, st, rc;
-    double L;
+    const int n = s->n;
+    int i, rc;
 
     if (!isfinite(t) || !eom__finite(x, 2 * (size_t)n))
         return eom__fail(s, EOM_ERR_NONFINITE,
                          "the state at t = %g is not finite", t);
-    /* L itself is asked for (the forward sweep computes it anyway) so
-     * that a state outside the model's domain is an error even where the
-     * derivatives happen to stay finite; h includes d2L/dqd dt */
-    st = tp_lagrange_t(s->tL.ws, eom__tape_input(&s->tL, x, t), 0, &L, s->g,
-                       &s->dLdt, s->M, s->h);
-    if ((rc = eom__tape_status(s, st, "the Lagrangian or a derivative")))
+    /* L itself is asked for so that a state outside the model's domain
+     * is an error even where the derivatives happen to stay finite; h
+     * includes d2L/dqd dt; M is formed and factored each time, or once
+     * when it is constant (the route: mass_route.c) */
+    if ((rc = eom__lagrange_block(s, t, x)) != EOM_OK)
         return rc;
     if ((rc = eom__nonconservative(s, t, x)) != EOM_OK)
         return rc;
@@ -481,7 +480,16 @@ int eom__evaluate(eom_system *s, double t, const double *x)
     for (i = 0; i < n; i++)
         s->qdd[i] = s->F[i] = s->g[i] - s->h[i] + s->Qv[i];
     s->power_t = -s->dLdt;
-    if ((rc = eom__factor_mass(s)) != EOM_OK)
+    return factor ? eom__mass_factor(s, t, x) : EOM_OK;
+}
+
+int eom__evaluate(eom_system *s, double t, const double *x)
+{
+    const int n = s->n, m = s->m;
+    const double *qd = x + n;
+    int i, j, rc;
+
+    if ((rc = eom__evaluate_free(s, t, x, 1)) != EOM_OK)
         return rc;
     if ((rc = eom__mass_solve(s, s->qdd, 1)) != EOM_OK)
         return rc;
@@ -535,7 +543,7 @@ int eom_rhs(eom_system *s, double t, const double *x, double *xd)
         return EOM_ERR_BUSY;
     if (!x || !xd) {
         rc = eom__fail(s, EOM_ERR_NULL, "eom_rhs: x or xd is NULL");
-    } else if ((rc = eom__evaluate(s, t, x)) == EOM_OK) {
+    } else if ((rc = eom__evaluate_rhs(s, t, x)) == EOM_OK) {
         memmove(xd, x + s->n, (size_t)s->n * sizeof(double));
         memcpy(xd + s->n, s->qdd, (size_t)s->n * sizeof(double));
         s->msg[0] = '\0';
@@ -591,7 +599,7 @@ int eom_multipliers(eom_system *s, double t, const double *x,
     s->msg[0] = '\0';
     if (!x || (!lambda && s->m > 0))
         return eom__fail(s, EOM_ERR_NULL, "eom_multipliers: NULL argument");
-    if ((rc = eom__evaluate(s, t, x)) != EOM_OK)
+    if ((rc = eom__evaluate_rhs(s, t, x)) != EOM_OK)
         return rc;
     if (s->m > 0)
         memcpy(lambda, s->lam, (size_t)s->m * sizeof(double));

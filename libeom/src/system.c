@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "eom_internal.h"
+#include "mass_route.h"
 
 int eom__fail(eom_system *s, int status, const char *fmt, ...)
 {
@@ -419,6 +420,9 @@ void eom_system_free(eom_system **sp)
     s = *sp;
     /* a system that failed before its tapes existed owns none */
     last = !s->shared || atomic_fetch_sub(&s->shared->refs, 1) == 1;
+    /* the mass route's workspaces replay the L and phi tapes: first */
+    eom__mass_free(&s->mass);
+    eom__kkt_free(&s->kkt);
     tape_free(&s->tL, last);
     tape_free(&s->tE, last);
     tape_free(&s->tR, last);
@@ -945,6 +949,7 @@ int eom_set_param(eom_system *s, int k, double value)
         if (tapes[i]->ws && tapes[i]->pmap[k] >= 0)
             tp_ws_set_param(tapes[i]->ws, tapes[i]->pmap[k], value);
     s->pval[k] = value;
+    s->param_gen++; /* a constant M's factor is for the old value */
     return EOM_OK;
 }
 

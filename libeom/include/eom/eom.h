@@ -287,6 +287,38 @@ EOM_API int eom_system_set_compiled(eom_system *s, int on,
 /* 1 if s runs compiled tapes, else 0. */
 EOM_API int eom_system_compiled(const eom_system *s);
 
+/* How the right-hand side forms and factors the mass matrix M = d2L/dqd2,
+ * chosen automatically from the Lagrangian's tape (docs/libeom.md, "The
+ * mass matrix's route"). */
+typedef enum eom_mass_route {
+    EOM_MASS_DENSE = 1,   /* formed with n directions and factored at
+                             every evaluation */
+    EOM_MASS_CONSTANT = 2, /* M depends on none of q, qd, t (decided
+                              from the tape's operations, not from
+                              samples): formed and factored once per set
+                              of parameter values; an evaluation sweeps
+                              the Lagrangian with one direction */
+    EOM_MASS_SPARSE = 3   /* constant M, and eom_rhs and eom_multipliers
+                             solve M and the (holonomic, fixed)
+                             constraints as one sparse system with KLU,
+                             with C from a coloured sweep: a cost about
+                             linear in n on chains; the integrators keep
+                             the constant route */
+} eom_mass_route;
+/* s's route in eom_rhs (an eom_mass_route value; the tapes are analysed
+ * on the first call or evaluation), or EOM_ERR_NULL. */
+EOM_API int eom_system_mass_route(eom_system *s);
+/* Override the automatic choice: route 0 (auto, the default),
+ * EOM_MASS_DENSE (any model), EOM_MASS_CONSTANT (refused with
+ * EOM_ERR_ARG, and a message in s, when M is not constant) or
+ * EOM_MASS_SPARSE (refused likewise when M is not constant or the model
+ * has no constraints, velocity constraints, or constraints that read the
+ * time). For comparisons of the routes; all give the same results to
+ * rounding. */
+EOM_API int eom_system_set_mass_route(eom_system *s, int route);
+/* "dense", "constant", "sparse", or "unknown". */
+EOM_API const char *eom_mass_route_name(int route);
+
 EOM_API int eom_system_ncoords(const eom_system *s);
 /* Constraint rows m: the holonomic ones, then the velocity ones. */
 EOM_API int eom_system_nconstraints(const eom_system *s);
@@ -703,6 +735,8 @@ typedef struct eom_stats {
     double jac_time;     /* seconds spent forming Jacobians or iteration
                             matrices (bdf, ida, esdirk with the exact
                             Jacobian; 0 otherwise), part of wall_time */
+    int mass_route;      /* the mass matrix's route in the right-hand
+                            side (eom_system_mass_route) */
 } eom_stats;
 
 typedef struct eom_integ eom_integ;
