@@ -69,7 +69,7 @@ static void pendulum(double a, double *th, double *w, double dt)
 
 typedef struct result {
     int status;
-    double t_reached, err_b0, err_all;
+    double t_reached, err_b0, err_all, wall;
     long passes, switches, steps;
 } result;
 
@@ -144,6 +144,7 @@ static void run(const char *path, int natural, eom_method method,
         r->passes = st.singular_passes;
         r->switches = st.branch_switches;
         r->steps = st.steps;
+        r->wall = st.wall_time;
     }
 done:
     eom_integ_free(&it);
@@ -262,12 +263,12 @@ int main(int argc, char **argv)
         snprintf(path, sizeof path, "%s/%s", argv[1], cases[c].file);
         run(path, cases[c].natural, cases[c].method, t_end, &r);
         printf("A02 N = %d %-8s %-6s to %4.1f s: %s at t = %5.2f, B0 error "
-               "%.2e, every tip %.2e (bound %.0e), %ld steps, flat passes "
-               "%ld of %d, branch switches %ld\n",
+               "%.2e, every tip %.2e (bound %.0e), %ld steps, %.1f s, flat "
+               "passes %ld of %d, branch switches %ld\n",
                NLOOPS, cases[c].natural ? "natural" : "angles",
                eom_method_name(cases[c].method), t_end,
                r.status == EOM_OK ? "ok" : "STOPPED", r.t_reached, r.err_b0,
-               r.err_all, cases[c].bound, r.steps, r.passes, flats,
+               r.err_all, cases[c].bound, r.steps, r.wall, r.passes, flats,
                r.switches);
         CHECK_INT(r.status, EOM_OK);
         CHECK(r.t_reached >= t_end - 1e-9);
