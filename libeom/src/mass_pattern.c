@@ -120,13 +120,60 @@ done:
     return st;
 }
 
-/* M's pattern (compressed rows of MU over u: symmetric, so also its
- * columns) and its dependence on the state, from MU. */
+/* M's pattern as the union of the pattern P read from MU (row i of P:
+ * cols[rowptr[i] ..]) and its transpose, in compressed columns with rows
+ * ascending and no repeats: M is symmetric, and the sweep that reads its
+ * entries (kkt_sparse.c) needs every entry in both triangles, even
+ * where the structural analysis found one side alone. pos[n + 1] is
+ * scratch; ms->rowind has room for 2 |P| entries. */
+static int cmp_i64(const void *x, const void *y)
+{
+    const int64_t a = *(const int64_t *)x, b = *(const int64_t *)y;
+    return (a > b) - (a < b);
+}
+
+static void symmetric_union(int n, const size_t *rowptr, const int *cols,
+                            eom_mass *ms, size_t *pos)
+{
+    size_t a, e = 0, k;
+    int i, j;
+    /* each (i, j) of P puts row i in column j and row j in column i */
+    memset(pos, 0, ((size_t)n + 1) * sizeof *pos);
+    for (i = 0; i < n; i++)
+        for (a = rowptr[i]; a < rowptr[i + 1]; a++) {
+            pos[cols[a] + 1]++;
+            pos[i + 1]++;
+        }
+    for (j = 0; j < n; j++)
+        pos[j + 1] += pos[j];
+    for (j = 0; j <= n; j++)
+        ms->colptr[j] = (int64_t)pos[j];
+    for (i = 0; i < n; i++)
+        for (a = rowptr[i]; a < rowptr[i + 1]; a++) {
+            ms->rowind[pos[cols[a]]++] = i;
+            ms->rowind[pos[i]++] = cols[a];
+        }
+    /* sort each column and drop repeats, compacting as we go */
+    for (j = 0; j < n; j++) {
+        const size_t lo = (size_t)ms->colptr[j], hi = (size_t)ms->colptr[j + 1];
+        const size_t start = e;
+        qsort(ms->rowind + lo, hi - lo, sizeof *ms->rowind, cmp_i64);
+        for (k = lo; k < hi; k++)
+            if (e == start || ms->rowind[e - 1] != ms->rowind[k])
+                ms->rowind[e++] = ms->rowind[k];
+        ms->colptr[j] = (int64_t)start;
+    }
+    ms->colptr[n] = (int64_t)e;
+    ms->nnz = e;
+}
+
+/* M's pattern (compressed rows of MU over u, made symmetric) and its
+ * dependence on the state, from MU. */
 static int read_MU(const tp_tape *MU, int n, int ni, eom_mass *ms)
 {
     size_t *rowptr = malloc(((size_t)n + 1) * sizeof *rowptr);
-    int *cols = NULL, st, i;
-    size_t k;
+    int *cols = NULL, st;
+    size_t *last = NULL;
     if (!rowptr)
         return TP_ERR_NOMEM;
     /* over the state: no entry at all means M is constant */
@@ -139,24 +186,23 @@ static int read_MU(const tp_tape *MU, int n, int ni, eom_mass *ms)
     if (st != TP_OK)
         goto done;
     cols = malloc((rowptr[n] ? rowptr[n] : 1) * sizeof *cols);
-    ms->colptr = malloc(((size_t)n + 1) * sizeof *ms->colptr);
-    ms->rowind = malloc((rowptr[n] ? rowptr[n] : 1) *
+    ms->colptr = calloc((size_t)n + 1, sizeof *ms->colptr);
+    /* room for the union with the transpose: at most twice the entries */
+    ms->rowind = malloc((rowptr[n] ? 2 * rowptr[n] : 1) *
                         sizeof *ms->rowind);
-    if (!cols || !ms->colptr || !ms->rowind) {
+    last = malloc(((size_t)n + 1) * sizeof *last);
+    if (!cols || !ms->colptr || !ms->rowind || !last) {
         st = TP_ERR_NOMEM;
         goto done;
     }
     st = tp_tape_jacobian_pattern(MU, ni, n, rowptr, cols, rowptr[n]);
     if (st != TP_OK)
         goto done;
-    for (i = 0; i <= n; i++)
-        ms->colptr[i] = (int64_t)rowptr[i];
-    for (k = 0; k < rowptr[n]; k++)
-        ms->rowind[k] = cols[k];
-    ms->nnz = rowptr[n];
+    symmetric_union(n, rowptr, cols, ms, last);
 done:
     free(rowptr);
     free(cols);
+    free(last);
     return st;
 }
 
