@@ -1073,6 +1073,40 @@ static void case_assemble(void)
  * summary's figures; every flat position the CSV shows (y1 changes sign)
  * is counted as a singular pass, none as a branch switch, and the run
  * stays on the parallelogram (P2 = P1 + (d, 0)). */
+/* The mass matrix's route in the summary (docs/cli.md): a point mass on
+ * two springs in Cartesian coordinates (M constant) prints "mass matrix:
+ * constant"; the same point in polar coordinates (M = diag(m, m r^2))
+ * prints no such line. */
+static void case_mass_route(void)
+{
+    static const char *const text[2] = {
+        "param m = 2 [kg]\nparam k = 3 [N/m]\n"
+        "coord x = 1 [m] rate 0.5\ncoord y = 0 [m]\n"
+        "T = 1/2*m*(x_dot^2 + y_dot^2)\nV = k*(x^2 + y^2)\n",
+        "param m = 2 [kg]\nparam k = 3 [N/m]\nparam c = 5 [J]\n"
+        "coord r = 1 [m] rate 0.5\ncoord th = 0.2 [1]\n"
+        "T = 1/2*m*(r_dot^2 + r^2*th_dot^2)\nV = k*r^2 + c*th^2\n"};
+    char file[300], out[300];
+    const char *args[] = {file, "--t-end", "0.1", "--out", out, NULL};
+    int k;
+    for (k = 0; k < 2; k++) {
+        FILE *f;
+        result r;
+        scratch(file, sizeof file, k == 0 ? "cartesian.eom" : "polar.eom");
+        scratch(out, sizeof out, k == 0 ? "cartesian.csv" : "polar.csv");
+        f = fopen(file, "w");
+        CHECK(f != NULL);
+        if (!f)
+            return;
+        fputs(text[k], f);
+        fclose(f);
+        run(&r, args);
+        CHECK_INT(r.status, 0);
+        CHECK_INT(has(r.err, "mass matrix: constant"), k == 0);
+        result_free(&r);
+    }
+}
+
 static void case_health(void)
 {
     char file[300], out[300], msg[256], *text;
@@ -1289,6 +1323,7 @@ static const struct {
     {"model_sensitivity", case_sensitivity},
     {"model_sensitivity_constraints", case_sensitivity_constraints},
     {"model_health", case_health},
+    {"model_mass_route", case_mass_route},
     {"model_tolerance", case_tolerance},
     {"model_list", case_list},   {"model_describe", case_describe},
     {"model_csv", case_csv},     {"model_error", case_error},
