@@ -489,8 +489,20 @@ FILE *ensemble_summary_open(const char *path, int resume, const char *head,
     }
     memcpy(rec_path, path, pl);
     memcpy(rec_path + pl, ".inputs", sizeof ".inputs");
-    /* opened without truncating: the lock comes first */
-    fd = open(path, O_RDWR | O_CREAT | O_CLOEXEC, 0666);
+    /* opened without truncating: the lock comes first. The summary is
+     * written in place (so that --resume can continue it), so never
+     * through a symbolic link planted at its name (O_NOFOLLOW), and a
+     * FIFO there must not block the open (O_NONBLOCK; refused below as
+     * not a regular file) */
+    fd = open(path, O_RDWR | O_CREAT | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC,
+              0666);
+    if (fd < 0 && errno == ELOOP && lstat(path, &st) == 0 &&
+        S_ISLNK(st.st_mode)) {
+        fprintf(stderr, "eom-ensemble: '%s' is a symbolic link: the summary "
+                "is written in place and never through a link; give the "
+                "path of the file itself\n", path);
+        goto fail;
+    }
     if (fd < 0) {
         fprintf(stderr, "eom-ensemble: cannot write '%s': %s\n", path,
                 strerror(errno));

@@ -462,6 +462,12 @@ def pages(b, eom_run, write_page, eom_ensemble, models, workdir):
                          cart_pole_bob, workdir)
         if name == "rolling-disk":
             check(not d["planar"], "rolling-disk is drawn in 2-D")
+            with open(page, encoding="utf-8") as f:
+                has_three = "/* three.js " in f.read()
+            check(has_three, "rolling-disk: the page has no three.js, so "
+                  "no 3-D view: this build was configured without "
+                  "vendor/three (tools/install-deps --test fetches it; "
+                  "then reconfigure)")
             png = os.path.join(workdir, "disk.png")
             screenshots(b, "file://%s#frame=0" % page,
                         [(png, (int(st["left"]), int(st["top"]), 800, 560,

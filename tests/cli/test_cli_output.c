@@ -1,8 +1,9 @@
 /* test_cli_output.c - what eom-run and eom-ensemble do to the files they
  * write and read, when things go wrong: an output replaced only by a
  * finished run (a SIGKILL, a failed run leave the old file as it was),
- * --out naming an input, --resume of another ensemble's summary or of
- * garbage, two resumes at once, a summary header far wider than 64 KiB.
+ * --out naming an input or a symbolic link, --resume of another
+ * ensemble's summary or of garbage, two resumes at once, a summary header
+ * far wider than 64 KiB.
  * One case per meson test:
  *   test_cli_output EOM_RUN EOM_ENSEMBLE MODELS_DIR CASE */
 #define _XOPEN_SOURCE 700 /* realpath, symlink */
@@ -204,6 +205,22 @@ static void case_out_input(void)
     text = read_file(model, NULL);
     CHECK(text && strcmp(text, orig) == 0);
     free(text);
+    /* a link at --out to a file that is no input: the summary is written
+     * in place, so never through the link (its target keeps its text) */
+    {
+        char victim[300], vlink[300];
+        const char *a[] = {model, "--runs", runs, "--t-end", "0.01", "-q",
+                           "--out", vlink, NULL};
+        scratch(victim, sizeof victim, "victim.csv");
+        scratch(vlink, sizeof vlink, "victim-link.csv");
+        write_text(victim, old_text);
+        CHECK(symlink(victim, vlink) == 0);
+        run(&r, a);
+        CHECK(r.status != 0);
+        CHECK_HAS(r.err, "is a symbolic link");
+        result_free(&r);
+        CHECK(holds(victim, old_text));
+    }
     free(orig);
     cli_program = eom_run_path;
 }
