@@ -1,7 +1,8 @@
 /* test_cli_stop.c - eom-run and eom-ensemble stopped part-way: by
  * SIGTERM, SIGINT or SIGHUP sent from here to a child run (it stops after
  * a whole row and exits with 128 + the signal; an ensemble's summary
- * resumes to what an uninterrupted ensemble writes), and by a write that
+ * resumes to what an uninterrupted ensemble writes; a SIGHUP ignored at
+ * the start, as under nohup, stays ignored), and by a write that
  * fails (a file size limit, RLIMIT_FSIZE, makes the summary's writes fail
  * with EFBIG part-way as a full disk does with ENOSPC: the failure is
  * said once with its reason, the summary keeps whole rows and the runs
@@ -101,10 +102,17 @@ static long long first_with_prefix(const char *prefix)
     return size;
 }
 
+/* SIGHUP ignored in the next child spawn starts (as nohup starts it),
+ * else every stop signal in its default action. */
+static int spawn_ignoring_hup;
+
 /* Start prog with args (NULL-terminated, args[0] the program), its
  * standard error into err_path, with a file size limit of fsize bytes
  * (0: none; SIGXFSZ ignored, so that a write past it fails with EFBIG as
- * one to a full disk fails with ENOSPC). The child's pid. */
+ * one to a full disk fails with ENOSPC). The stop signals start in their
+ * default action whatever this test inherited (a test run under nohup
+ * inherits SIGHUP ignored, which the child would keep ignoring by
+ * design), unless spawn_ignoring_hup. The child's pid. */
 static pid_t spawn(const char **args, const char *err_path,
                    long long fsize)
 {
@@ -112,7 +120,11 @@ static pid_t spawn(const char **args, const char *err_path,
     fflush(NULL);
     pid = fork();
     if (pid == 0) {
-        int fd = open(err_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        int fd;
+        signal(SIGTERM, SIG_DFL);
+        signal(SIGINT, SIG_DFL);
+        signal(SIGHUP, spawn_ignoring_hup ? SIG_IGN : SIG_DFL);
+        fd = open(err_path, O_WRONLY | O_CREAT | O_TRUNC, 0644);
         if (fd >= 0) {
             dup2(fd, STDERR_FILENO);
             close(fd);
@@ -210,11 +222,43 @@ static void run_signal(int sig)
     unlink(partial);
 }
 
+/* eom-run started with SIGHUP ignored (nohup) keeps ignoring it: still
+ * running well after a SIGHUP, then stopped by SIGTERM as usual. */
+static void run_nohup(void)
+{
+    char out[300], partial[320], errp[300];
+    const char *args[] = {eom_run_path, "spring-pendulum", "--t-end",
+                          "100000", "-q", "--out", out, NULL};
+    long long size = -1;
+    pid_t pid;
+    int k, st = 0;
+    scratch(out, sizeof out, "nohup.csv");
+    scratch(errp, sizeof errp, "err.txt");
+    snprintf(partial, sizeof partial, "%s.partial", out);
+    spawn_ignoring_hup = 1;
+    pid = spawn(args, errp, 0);
+    spawn_ignoring_hup = 0;
+    for (k = 0; k < 2000 && size < 20000; k++) {
+        nap_ms(10);
+        size = first_with_prefix("nohup.csv.tmp-");
+    }
+    CHECK(size >= 20000);
+    kill(pid, SIGHUP);
+    /* a run that obeyed it would have ended within these 0.5 s: it
+     * stops after the row under way */
+    nap_ms(500);
+    CHECK_INT((int)waitpid(pid, &st, WNOHANG), 0);
+    kill(pid, SIGTERM);
+    CHECK_INT(reap(pid), 128 + SIGTERM);
+    unlink(partial);
+}
+
 static void case_run_signals(void)
 {
     run_signal(SIGTERM);
     run_signal(SIGINT);
     run_signal(SIGHUP);
+    run_nohup();
 }
 
 /* The summary's text without the wall time (the second-last field of
