@@ -711,12 +711,15 @@ static int ida_advance(eom_integ *it, double tout)
          * refusal (integrate_handover.c). Measured: the parallelogram in
          * relative angles at rtol 1e-10 (test_parallelogram.c), Newton
          * failing at t = 19.786 with h = 6.6e-12, rcond 1.1e-5. */
+        char *why = IDAGetReturnFlagName(flag); /* malloc'd: ours */
         it->t_refused = tcur;
-        return eom__integ_fail(it, EOM_ERR_RANK_DEFICIENT,
-                               "ida: %s at t = %.17g near a singular "
-                               "position (rcond of C M^-1 C^T %.2g)",
-                               IDAGetReturnFlagName(flag), tcur,
-                               it->s->rcond_S);
+        status = eom__integ_fail(it, EOM_ERR_RANK_DEFICIENT,
+                                 "ida: %s at t = %.17g near a singular "
+                                 "position (rcond of C M^-1 C^T %.2g)",
+                                 why ? why : "failure", tcur,
+                                 it->s->rcond_S);
+        free(why);
+        return status;
     }
     status = eom__sun_failed(it, &d->rep, "ida", IDAGetReturnFlagName(flag),
                              tcur);
