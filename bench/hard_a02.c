@@ -24,7 +24,7 @@
 
 #define PI_ 3.14159265358979323846
 
-static void pendulum(double a, double *th, double *w, double dt)
+void hard_a02_pendulum(double a, double *th, double *w, double dt)
 {
     const long k = (long)ceil(dt / 2e-5);
     const double h = dt / (double)k;
@@ -92,7 +92,7 @@ static int one(const char *dir, int natural, eom_method method,
             break;
         }
         treached = t;
-        pendulum(a, &th, &w, t - tprev);
+        hard_a02_pendulum(a, &th, &w, t - tprev);
         tprev = t;
         bx = natural ? x[0] : cos(x[0]);
         by = natural ? x[N + 1] : sin(x[0]);

@@ -11,4 +11,9 @@
  * read. */
 int hard_a02(const char *models_dir, int quick);
 
+/* The exact motion's pendulum, th'' = -a cos th, advanced from (*th, *w)
+ * by dt with classical RK4 steps of at most 2e-5 s (its error far below
+ * the benchmark's tolerance); bench-a02-growth uses it too. */
+void hard_a02_pendulum(double a, double *th, double *w, double dt);
+
 #endif
