@@ -507,22 +507,6 @@ static void print_build(const int *Ns, const row *r, int n)
     }
 }
 
-/* "2,10,50" into at most max values; their count, or -1. */
-static int parse_links(const char *s, int *out, int max)
-{
-    int n = 0;
-    while (*s) {
-        char *end;
-        const long v = strtol(s, &end, 10);
-        if (end == s || v < 1 || v > 100000 || n == max ||
-            (*end && *end != ','))
-            return -1;
-        out[n++] = (int)v;
-        s = *end ? end + 1 : end;
-    }
-    return n;
-}
-
 int main(int argc, char **argv)
 {
     static const int Ns_default[] = {2, 5, 10, 20, 50};
@@ -538,7 +522,7 @@ int main(int argc, char **argv)
         } else if (!strcmp(argv[i], "--reps") && i + 1 < argc) {
             reps = atoi(argv[++i]);
         } else if (!strcmp(argv[i], "--links") && i + 1 < argc &&
-                   (n = parse_links(argv[i + 1], Ns, 32)) >= 1) {
+                   (n = bench_parse_links(argv[i + 1], Ns, 32)) >= 1) {
             i++;
         } else {
             fprintf(stderr, "usage: bench-peers [--quick] [--reps R] "

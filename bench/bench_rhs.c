@@ -619,22 +619,6 @@ static int count_calls(const char *route, int links, long K)
     return 0;
 }
 
-/* "2,10,50" into at most max values; their count, or -1. */
-static int parse_links(const char *s, int *out, int max)
-{
-    int n = 0;
-    while (*s) {
-        char *end;
-        const long v = strtol(s, &end, 10);
-        if (end == s || v < 1 || v > 100000 || n == max ||
-            (*end && *end != ','))
-            return -1;
-        out[n++] = (int)v;
-        s = *end ? end + 1 : end;
-    }
-    return n;
-}
-
 int main(int argc, char **argv)
 {
     static const int rigid_default[] = {2, 5, 10, 20, 50};
@@ -655,7 +639,7 @@ int main(int argc, char **argv)
         } else if (!strcmp(argv[i], "--reps") && i + 1 < argc) {
             reps = atoi(argv[++i]);
         } else if (!strcmp(argv[i], "--links") && i + 1 < argc) {
-            if ((nrigid = parse_links(argv[++i], rigid, 32)) < 1) {
+            if ((nrigid = bench_parse_links(argv[++i], rigid, 32)) < 1) {
                 fprintf(stderr, "bench-rhs: --links wants numbers of "
                         "links separated by commas, such as 2,10,50\n");
                 return 2;

@@ -76,3 +76,18 @@ long bench_calibrate_cpu(void (*fn)(void *), void *ctx, double min_seconds)
 {
     return calibrate_with(bench_cpu_now, fn, ctx, min_seconds);
 }
+
+int bench_parse_links(const char *s, int *out, int max)
+{
+    int n = 0;
+    while (*s) {
+        char *end;
+        const long v = strtol(s, &end, 10);
+        if (end == s || v < 1 || v > 100000 || n == max ||
+            (*end && *end != ','))
+            return -1;
+        out[n++] = (int)v;
+        s = *end ? end + 1 : end;
+    }
+    return n;
+}

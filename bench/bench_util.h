@@ -34,4 +34,8 @@ long bench_calibrate_cpu(void (*fn)(void *), void *ctx, double min_seconds);
  * whole process since it started. */
 unsigned long long bench_alloc_count(void);
 
+/* A list of link counts such as "2,10,50" (each 1 to 100000) into at
+ * most max values of out: their count, or -1 when malformed. */
+int bench_parse_links(const char *s, int *out, int max);
+
 #endif
