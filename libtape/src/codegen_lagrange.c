@@ -23,6 +23,19 @@
  * sweep with that mask would), and uses at and adj as scratch of its own.
  * Rows are P (a multiple of TP_LANES) wide: up to ROWS_UNROLL written out
  * element by element, wider ones through small row functions.
+ *
+ * Strips (the Lagrange block, P of 8 and more): n_ops rows P wide are
+ * hundreds of kilobytes at 50 links and megabytes at 200, more than the
+ * caches hold, and a sweep streamed them all. Instead the values and
+ * adjoints are swept once, and the rows then strip by strip, W
+ * directions at a time (4 or 8), in W-wide rows of the block's own
+ * scratch (at: the tangent rows, then the adjoint-tangent rows, each
+ * half starting on a cache line; tan is not touched). Every row
+ * statement runs once per strip with the coefficients the scalar sweeps
+ * left (an op's adjoint is final once its reverse statement ran; a GEN
+ * op's partials are computed again, the same function of the same
+ * values), so each direction's arithmetic is what it was, term for
+ * term and in the same order.
  */
 #include <stdlib.h>
 #include <string.h>
@@ -41,6 +54,9 @@ typedef struct lg {
     unsigned char *rw;   /* the adjoint-tangent row holds data */
     unsigned char *aw;   /* the adjoint holds data */
     const char *prefix;  /* of the block's chunk functions: lg_0, ... */
+    tp_sbuf *br;         /* where row statements go (b, or the strips') */
+    int W;               /* a row's width: P, or the strip's */
+    bool strips;         /* rows in strips of W directions (U_, B_) */
 } lg;
 
 /* One term of a row update: coef * (row src). */
@@ -69,17 +85,22 @@ static void trm(term *t, const char *coef, char kind, uint32_t slot)
 static void emit_row(lg *g, char kind, uint32_t d, bool set, int nt,
                      const term *t)
 {
-    tp_sbuf *b = g->b;
+    tp_sbuf *b = g->br;
     int k, j;
     if (nt == 0)
         return;
+    if (g->strips) /* the strip's rows: U_ for T_, B_ for A_ */
+        kind = kind == 'T' ? 'U' : 'B';
     tp__sbuf_puts(b, "{\n");
     for (j = 0; j < nt; j++)
-        tp__sbuf_printf(b, "const double c%d = %s; const double *s%d = %s;\n",
-                        j, t[j].coef, j, t[j].src);
+        tp__sbuf_printf(b, "const double c%d = %s; const double *s%d = %c%s;\n",
+                        j, t[j].coef, j,
+                        g->strips ? (t[j].src[0] == 'T' ? 'U' : 'B')
+                                  : t[j].src[0],
+                        t[j].src + 1);
     tp__sbuf_printf(b, "double *d_ = %c_(%u);\n", kind, d);
-    if (g->P <= ROWS_UNROLL) {
-        for (k = 0; k < g->P; k += 2) {
+    if (g->strips || g->W <= ROWS_UNROLL) {
+        for (k = 0; k < g->W; k += 2) {
             tp__sbuf_printf(b, "tpc_st(d_ + %d, ", k);
             if (!set)
                 tp__sbuf_printf(b, "tpc_ld(d_ + %d) + (", k);
@@ -197,8 +218,8 @@ static void emit_forward(lg *g, uint32_t i)
     case TP_OP_SIN: snprintf(cu, sizeof cu, "aux[%u]", i); break;
     case TP_OP_COS: snprintf(cu, sizeof cu, "-aux[%u]", i); break;
     default:
-        tp__sbuf_printf(g->b, "tpc_partials(v, aux, %uu, %u, %uu, %uu, &d);\n", i,
-                        op, u, t);
+        tp__sbuf_printf(g->br, "tpc_partials(v, aux, %uu, %u, %uu, %uu, &d);\n",
+                        i, op, u, t);
         strcpy(cu, "d.fu");
         strcpy(ct, "d.ft");
         break;
@@ -385,6 +406,7 @@ static void emit_reverse(lg *g, uint32_t i)
     const bool second = tn(g, i); /* the adjoint is taken as non-zero */
     const bool rowpath = g->an[i] || second;
     const bool gen = !strcmp(tp__op_fn_name(op), "GEN");
+    size_t at0;
     if (!g->aw[i])
         return; /* nothing reached it */
     tp__sbuf_printf(g->b, "{\nconst double a = adj[%u];\n", i);
@@ -392,6 +414,31 @@ static void emit_reverse(lg *g, uint32_t i)
         tp__sbuf_printf(g->b, "tpc_partials(v, aux, %uu, %u, %uu, %uu, &d);\n",
                         i, op, T->a0[i], T->a1[i]);
     emit_adjoint(g, i, rowpath);
+    if (g->br != g->b) {
+        /* strips: the rows in a statement of their own, run once per
+         * strip after the whole scalar sweep, when adj[i] is what it was
+         * here (no later op writes it) and d the same partials again */
+        tp__sbuf_puts(g->b, "}\n");
+        if (!rowpath)
+            return;
+        at0 = g->br->len;
+        tp__sbuf_printf(g->br, "{\nconst double a = adj[%u];\n", i);
+        if (gen)
+            tp__sbuf_printf(g->br,
+                            "tpc_partials(v, aux, %uu, %u, %uu, %uu, &d);\n",
+                            i, op, T->a0[i], T->a1[i]);
+        {
+            const size_t head = g->br->len;
+            emit_rows(g, i, second);
+            if (g->br->len == head && !g->br->failed) {
+                g->br->len = at0; /* no row written: no statement */
+                g->br->p[at0] = '\0';
+                return;
+            }
+        }
+        tp__sbuf_puts(g->br, "}\n");
+        return;
+    }
     if (rowpath)
         emit_rows(g, i, second);
     tp__sbuf_puts(g->b, "}\n");
@@ -420,14 +467,22 @@ static void open_phase_chunk(void *ctx, tp_sbuf *b, unsigned c, uint32_t lo,
     tp__sbuf_puts(b, "LG_BEGIN\n");
 }
 
-static void phase_op(lg *g, tp_seq *q, bool reverse, uint32_t i)
+/* Op i's statements: into q (its value or adjoint, and its rows unless
+ * in strips), its rows into r (strips; NULL otherwise). A statement is
+ * closed where text was written. */
+static void phase_op(lg *g, tp_seq *q, tp_seq *r, bool reverse, uint32_t i)
 {
+    const size_t l0 = q->text.len, r0 = r ? r->text.len : 0;
     g->b = &q->text;
+    g->br = r ? &r->text : g->b;
     if (reverse)
         emit_reverse(g, i);
     else
         emit_forward(g, i);
-    tp__seq_close(q, false);
+    if (q->text.len != l0 || !r)
+        tp__seq_close(q, false);
+    if (r && r->text.len != r0)
+        tp__seq_close(r, false);
 }
 
 static int phase_end(lg *g, tp_seq *q, tp_sbuf *b, bool loops, int *nchunk)
@@ -438,7 +493,7 @@ static int phase_end(lg *g, tp_seq *q, tp_sbuf *b, bool loops, int *nchunk)
     const int st = tp__seq_emit(q, b, loops, open_phase_chunk, &x, &clo, &nc);
     free(clo);
     tp__seq_free(q);
-    g->b = b;
+    g->b = g->br = b;
     *nchunk += (int)nc;
     return st;
 }
@@ -468,8 +523,9 @@ static int lg_init(lg *g, const tp_tape *T, int first, int count, int P,
     int st;
     memset(g, 0, sizeof *g);
     g->T = T;
-    g->b = b;
+    g->b = g->br = b;
     g->P = P;
+    g->W = P;
     g->prefix = prefix;
     if ((st = block_mask(T, first, count, &g->mask)) != TP_OK)
         return st;
@@ -500,6 +556,11 @@ void tp__emit_blocks_common(int P, tp_sbuf *b)
     tp__sbuf_puts(b,
                   "#define T_(s) (tan + (size_t)(s) * PW)\n"
                   "#define A_(s) (at + (size_t)(s) * PW)\n"
+                  "#define U_(s) (tan + (size_t)(s) * SW)\n"
+                  "static inline double *tpc_line(double *p)\n"
+                  "{\n    return (double *)(((uintptr_t)p + 63u) & "
+                  "~(uintptr_t)63u);\n}\n"
+                  "#define B_(s) (at + (size_t)(s) * SW)\n"
                   "#define LG_ARGS double *restrict v, double *restrict aux, "
                   "double *restrict tan, double *restrict at, "
                   "double *restrict adj\n"
@@ -508,36 +569,123 @@ void tp__emit_blocks_common(int P, tp_sbuf *b)
                   "(void)d; (void)tan; (void)at; (void)adj;\n");
 }
 
+/* The strip's width for rows P wide, 0 for no strips. A strip's rows
+ * are written out as 2-wide vectors (a few statements per row at these
+ * widths, no call); strips need 2 n_ops W doubles of at, which holds
+ * n_ops P, and 14 more to start both halves on a cache line. Measured
+ * (section 13 of docs/benchmarks.md): 8 directions where there are 16
+ * or more (and room for them), 4 below; wider strips, through the row
+ * functions or written out, were slower at every N. */
+static int strip_width(int P, uint32_t n_ops)
+{
+    int W;
+    for (W = P >= 16 ? 8 : 4; W >= 4; W -= 4)
+        if (P >= 2 * W && (size_t)n_ops * (size_t)(P - 2 * W) >= 14)
+            return W;
+    return 0;
+}
+
+/* The copy-out of the independents' rows (strips: this strip's columns
+ * c_ .. c_ + w_ - 1 of them) and, once, their adjoints: a statement
+ * each, repeated runs as loops. */
+static int emit_results(lg *g, int count, bool rows, bool grads, bool loops,
+                        tp_sbuf *b)
+{
+    tp_seq q;
+    uint32_t i, *clo = NULL;
+    unsigned nc = 0;
+    int st;
+    memset(&q, 0, sizeof q);
+    for (i = 0; i < g->T->n_indep; i++) {
+        if (grads) {
+            if (g->aw[i])
+                tp__sbuf_printf(&q.text, "gr[%u] = adj[%u];\n", i, i);
+            else
+                tp__sbuf_printf(&q.text, "gr[%u] = 0.0;\n", i);
+        }
+        if (rows && g->strips) {
+            if (g->rw[i])
+                tp__sbuf_printf(&q.text,
+                                "memcpy(H + %u + c_, sb_ + (size_t)%u * SW, "
+                                "(size_t)w_ * sizeof(double));\n",
+                                i * (uint32_t)count, i);
+            else
+                tp__sbuf_printf(&q.text,
+                                "memset(H + %u + c_, 0, (size_t)w_ * "
+                                "sizeof(double));\n",
+                                i * (uint32_t)count);
+        } else if (rows) {
+            if (g->rw[i])
+                tp__sbuf_printf(&q.text,
+                                "memcpy(H + %u, A_(%u), %d * sizeof(double));\n",
+                                i * (uint32_t)count, i, count);
+            else
+                tp__sbuf_printf(&q.text,
+                                "memset(H + %u, 0, %d * sizeof(double));\n",
+                                i * (uint32_t)count, count);
+        }
+        tp__seq_close(&q, false);
+    }
+    st = tp__seq_emit(&q, b, loops, NULL, NULL, &clo, &nc);
+    free(clo);
+    tp__seq_free(&q);
+    return st;
+}
+
+static void emit_calls(tp_sbuf *b, int k0, int k1, const char *args)
+{
+    int k;
+    for (k = k0; k < k1; k++)
+        tp__sbuf_printf(b, "lg_%d(%s);\n", k, args);
+}
+
 int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
                       int P, bool loops, tp_sbuf *b)
 {
-    const uint32_t o = T->out_slot[out], n = T->n_indep;
+    const uint32_t o = T->out_slot[out];
+    const bool any = o >= T->first_active;
     lg g;
-    tp_seq q;
+    tp_seq q, r;
     uint32_t i;
-    int k, nchunk = 0;
+    int nchunk = 0, k[5] = {0, 0, 0, 0, 0};
     int st = lg_init(&g, T, first, count, P, "lg", b);
     if (st != TP_OK)
         return st;
-    if (o >= T->first_active) {
+    g.W = strip_width(P, T->n_ops);
+    g.strips = g.W > 0;
+    if (!g.strips)
+        g.W = P;
+    else
+        tp__sbuf_printf(b, "#define SW %d\n", g.W);
+    if (any) {
         g.need[o] = 1;
         tp__cone(T, o, g.need);
     }
-    /* forward over the cone, then reverse from the output */
+    /* forward over the cone, then reverse from the output; in strips,
+     * the values and adjoints (chunks k0 .. k1, k2 .. k3) apart from
+     * the rows (k1 .. k2, k3 .. k4), which run once per strip */
     memset(&q, 0, sizeof q);
-    for (i = T->first_active; i <= o && o >= T->first_active; i++)
+    memset(&r, 0, sizeof r);
+    for (i = T->first_active; any && i <= o; i++)
         if (g.need[i])
-            phase_op(&g, &q, false, i);
+            phase_op(&g, &q, g.strips ? &r : NULL, false, i);
     st = phase_end(&g, &q, b, loops, &nchunk);
+    k[1] = nchunk;
+    if (st == TP_OK && g.strips)
+        st = phase_end(&g, &r, b, loops, &nchunk);
+    k[2] = nchunk;
     g.aw[o] = 1; /* seeded by the entry function */
-    for (i = o + 1; st == TP_OK && i-- > T->first_active &&
-                    o >= T->first_active;)
+    for (i = o + 1; st == TP_OK && any && i-- > T->first_active;)
         if (g.need[i] && g.aw[i])
-            phase_op(&g, &q, true, i);
+            phase_op(&g, &q, g.strips ? &r : NULL, true, i);
     if (st == TP_OK)
         st = phase_end(&g, &q, b, loops, &nchunk);
-    else
-        tp__seq_free(&q);
+    k[3] = nchunk;
+    if (st == TP_OK && g.strips)
+        st = phase_end(&g, &r, b, loops, &nchunk);
+    k[4] = nchunk;
+    tp__seq_free(&q);
+    tp__seq_free(&r);
     if (st != TP_OK) {
         free(g.need);
         return st;
@@ -545,37 +693,38 @@ int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
     tp__sbuf_puts(b, "#if TPC_PART == 0\n"
                      "TPC_EXPORT void tpc_lagrange(LG_ARGS, double *restrict "
                      "gr, double *restrict H)\n{\n");
-    emit_seeds(b, first, count, P);
-    tp__sbuf_printf(b, "adj[%u] = 1.0;\n", o);
-    for (k = 0; k < nchunk; k++)
-        tp__sbuf_printf(b, "lg_%d(v, aux, tan, at, adj);\n", k);
-    /* results: the independents' adjoints and rows, zero where none came
-     * (a statement each, repeated runs as loops) */
-    memset(&q, 0, sizeof q);
-    for (i = 0; i < n; i++) {
-        if (g.aw[i])
-            tp__sbuf_printf(&q.text, "gr[%u] = adj[%u];\n", i, i);
-        else
-            tp__sbuf_printf(&q.text, "gr[%u] = 0.0;\n", i);
-        if (g.rw[i])
-            tp__sbuf_printf(&q.text,
-                            "memcpy(H + %u, A_(%u), %d * sizeof(double));\n",
-                            i * (uint32_t)count, i, count);
-        else
-            tp__sbuf_printf(&q.text, "memset(H + %u, 0, %d * sizeof(double));\n",
-                            i * (uint32_t)count, count);
-        tp__seq_close(&q, false);
+    if (!g.strips) {
+        emit_seeds(b, first, count, P);
+        tp__sbuf_printf(b, "adj[%u] = 1.0;\n", o);
+        emit_calls(b, 0, k[4], "v, aux, tan, at, adj");
+        st = emit_results(&g, count, true, true, loops, b);
+    } else {
+        tp__sbuf_printf(b, "adj[%u] = 1.0;\n", o);
+        emit_calls(b, k[0], k[1], "v, aux, tan, at, adj");
+        emit_calls(b, k[2], k[3], "v, aux, tan, at, adj");
+        st = emit_results(&g, count, false, true, loops, b);
+        tp__sbuf_printf(
+            b,
+            "double *restrict su_ = tpc_line(at), *restrict sb_ = "
+            "tpc_line(su_ + (size_t)%uu * SW);\n"
+            "(void)tan;\n"
+            "for (int c_ = 0; c_ < %d; c_ += SW) {\n"
+            "const int w_ = %d - c_ < SW ? %d - c_ : SW;\n"
+            "for (int k_ = 0; k_ < %d; k_++) {\n"
+            "    double *r_ = su_ + (size_t)(%d + k_) * SW;\n"
+            "    memset(r_, 0, SW * sizeof(double));\n"
+            "    if (k_ >= c_ && k_ < c_ + SW)\n"
+            "        r_[k_ - c_] = 1.0;\n}\n",
+            T->n_ops, count, count, count, count, first);
+        emit_calls(b, k[1], k[2], "v, aux, su_, sb_, adj");
+        emit_calls(b, k[3], k[4], "v, aux, su_, sb_, adj");
+        if (st == TP_OK)
+            st = emit_results(&g, count, true, false, loops, b);
+        tp__sbuf_puts(b, "}\n");
     }
-    {
-        uint32_t *clo = NULL;
-        unsigned nc = 0;
-        st = tp__seq_emit(&q, b, loops, NULL, NULL, &clo, &nc);
-        free(clo);
-        tp__seq_free(&q);
-        if (st != TP_OK) {
-            free(g.need);
-            return st;
-        }
+    if (st != TP_OK) {
+        free(g.need);
+        return st;
     }
     tp__sbuf_printf(b,
                     "(void)v;\n(void)aux;\n}\n"
@@ -601,7 +750,7 @@ int tp__emit_jacobian(const tp_tape *T, int P, bool loops, tp_sbuf *b)
     memset(&q, 0, sizeof q);
     for (i = T->first_active; i < top; i++)
         if (g.need[i])
-            phase_op(&g, &q, false, i);
+            phase_op(&g, &q, NULL, false, i);
     if ((st = phase_end(&g, &q, b, loops, &nchunk)) != TP_OK) {
         free(g.need);
         return st;
