@@ -63,6 +63,10 @@ void run_summary_print(const run_summary *r, FILE *f, const char *prog,
     if (st->mass_route == EOM_MASS_CONSTANT)
         fprintf(f, "  mass matrix: constant, formed and factored once "
                 "(docs/libeom.md, \"The mass matrix's route\")\n");
+    if (st->mass_route == EOM_MASS_SPARSE)
+        fprintf(f, "  mass matrix: constant, with the constraints one "
+                "sparse system (KLU) away from singular positions "
+                "(docs/libeom.md, \"The mass matrix's route\")\n");
     if (st->tol_reachable > 0.0)
         fprintf(f, "  tolerance: tighter than %s allows this method's error "
                 "test; it keeps the error near %.2g instead (docs/"

@@ -18,6 +18,12 @@
  * velocity change that happened. A mismatch above a tenth of the speed
  * is a branch switch: counted and reported with its time (eom_stats),
  * not an error. Away from singular positions nothing is evaluated but C.
+ *
+ * On the integrators' sparse path (kkt_integ.c) the rank is not
+ * computed where the sparse measure of singularity says the state is
+ * far from a singular position (eom__branch_regular: the rank is full
+ * there, and its dense elimination would cost O(m^2 n) per step); the
+ * elimination's scratch is allocated at its first use.
  */
 #include <math.h>
 #include <stdlib.h>
@@ -72,9 +78,13 @@ static void copy_state(eom_branch *to, const eom_branch *from)
 static int rank_of(eom_branch *b, const double *C)
 {
     const int m = b->m, n = b->n;
-    double *a = b->a, big = 0.0;
+    double *a, big = 0.0;
     int *rp = b->rp, *cp = b->cp;
     int k, i, j;
+    if (!b->a &&
+        !(b->a = malloc((size_t)m * (size_t)n * sizeof(double))))
+        return -1;
+    a = b->a;
     for (i = 0; i < m; i++)
         for (j = 0; j < n; j++)
             a[i * n + j] = C[i * n + j] * b->scale[i];
@@ -132,7 +142,6 @@ static eom_branch *branch_alloc(int m, int n)
         return NULL;
     b->m = m;
     b->n = n;
-    b->a = malloc((size_t)m * (size_t)n * sizeof(double));
     b->scale = malloc((size_t)m * sizeof(double));
     b->rp = malloc((size_t)m * sizeof(int));
     b->cp = malloc((size_t)n * sizeof(int));
@@ -140,7 +149,7 @@ static eom_branch *branch_alloc(int m, int n)
     b->qd0 = malloc((size_t)n * sizeof(double));
     b->acc = malloc((size_t)n * sizeof(double));
     b->qdd = malloc((size_t)n * sizeof(double));
-    if (!b->a || !b->scale || !b->rp || !b->cp || !b->prev || !b->qd0 ||
+    if (!b->scale || !b->rp || !b->cp || !b->prev || !b->qd0 ||
         !b->acc || !b->qdd)
         eom__branch_free(&b);
     return b;
@@ -166,10 +175,42 @@ int eom__branch_new(eom_branch **out, eom_system *s, double t,
         b->scale[i] = norm > 0.0 ? 1.0 / sqrt(norm) : 1.0;
     }
     b->rank0 = rank_of(b, s->C);
+    if (b->rank0 < 0) {
+        eom__branch_free(&b);
+        return EOM_ERR_NOMEM;
+    }
     memcpy(b->prev, x, 2 * (size_t)n * sizeof(double));
     b->t_prev = t;
     *out = b;
     return EOM_OK;
+}
+
+int eom__branch_new_regular(eom_branch **out, eom_system *s, double t,
+                            const double *x, const double *norm)
+{
+    eom_branch *b = branch_alloc(s->m, s->n);
+    int i;
+    *out = NULL;
+    if (!b)
+        return EOM_ERR_NOMEM;
+    for (i = 0; i < s->m; i++)
+        b->scale[i] = norm[i] > 0.0 ? 1.0 / norm[i] : 1.0;
+    b->rank0 = s->m;
+    memcpy(b->prev, x, 2 * (size_t)s->n * sizeof(double));
+    b->t_prev = t;
+    *out = b;
+    return EOM_OK;
+}
+
+int eom__branch_in_pass(const eom_branch *b)
+{
+    return b->in_pass;
+}
+
+void eom__branch_regular(eom_branch *b, double t, const double *x)
+{
+    memcpy(b->prev, x, 2 * (size_t)b->n * sizeof(double));
+    b->t_prev = t;
 }
 
 /* acc += (h / 2) (qdd + qdd at x), and qdd := qdd at x */
@@ -194,7 +235,9 @@ int eom__branch_check(eom_branch *b, eom_system *s, double t,
     int i, singular, rc;
     if ((rc = eom__constraints_at(s, t, x)) != EOM_OK)
         return rc;
-    singular = rank_of(b, s->C) < b->rank0;
+    if ((singular = rank_of(b, s->C)) < 0)
+        return eom__fail(s, EOM_ERR_NOMEM, "out of memory");
+    singular = singular < b->rank0;
     if (singular && !b->in_pass) {
         /* entering: start from the last step before the pass */
         if ((rc = eom__evaluate(s, b->t_prev, b->prev)) != EOM_OK)

@@ -11,6 +11,7 @@
 #include <time.h>
 
 #include "integrate_internal.h"
+#include "kkt_sparse.h"
 #include "mass_route.h"
 
 static const char *const method_names[] = {"rk4", "erk",    "adams", "bdf",
@@ -217,13 +218,26 @@ void eom__integ_name_rows(eom_integ *it, const double *y)
              "; rank %d of %d rows there: %s", rank, s->m, text);
 }
 
+/* The sparse path's measure at the positions of y (kkt_integ.c): sets
+ * it->kkt_near, and leaves the augmented factor at y. */
+static int kkt_measure(eom_integ *it, double t, const double *y)
+{
+    int poor = 0, rc = eom__kkt_factor_at(it->s, t, y, &poor);
+    if (rc != EOM_OK)
+        return rc;
+    it->kkt_near = poor || eom__kkt_sigma(it->s) < EOM_KKT_SIGMA_NEAR;
+    return EOM_OK;
+}
+
 int eom__integ_rhs(eom_integ *it, double t, const double *y, double *yd)
 {
     eom_system *s = it->s;
     const int n = it->n;
     int rc;
     it->st.rhs_evals++;
-    rc = eom__evaluate(s, t, y);
+    /* the sparse solve, or where its factor is poor the dense route */
+    rc = it->kkt && !it->kkt_near ? eom__evaluate_rhs(s, t, y)
+                                  : eom__evaluate(s, t, y);
     if (rc != EOM_OK) {
         snprintf(it->msg, sizeof it->msg, "at t = %.17g: %s", t, s->msg);
         return rc;
@@ -270,10 +284,22 @@ int eom__integ_stretch_done(eom_integ *it, double t)
 
 int eom__integ_branch(eom_integ *it, double t, const double *y)
 {
-    int rc;
+    int rc = EOM_OK;
     if (!it->branch)
         return EOM_OK;
-    rc = eom__branch_check(it->branch, it->s, t, y, &it->st.rhs_evals);
+    if (it->kkt) {
+        /* far from singular positions (the measure says so) the rank of
+         * C is full: the monitor's dense elimination is not run */
+        rc = kkt_measure(it, t, y);
+        if (rc == EOM_OK && !it->kkt_near &&
+            !eom__branch_in_pass(it->branch)) {
+            eom__branch_regular(it->branch, t, y);
+            return EOM_OK;
+        }
+    }
+    if (rc == EOM_OK || !it->kkt)
+        rc = eom__branch_check(it->branch, it->s, t, y,
+                               &it->st.rhs_evals);
     if (rc != EOM_OK)
         snprintf(it->msg, sizeof it->msg, "at t = %.17g: %s", t,
                  rc == EOM_ERR_NOMEM ? "out of memory" : it->s->msg);
@@ -304,8 +330,14 @@ int eom__integ_project(eom_integ *it, double *y)
     if (s->m == 0)
         return EOM_OK;
     if (it->o.project) {
-        rc = eom__project_step(s, it->t, y, it->o.proj_tol,
-                               eom__integ_proj_qtol(it, y), &iters);
+        int dense = 1;
+        rc = EOM_OK;
+        if (it->kkt && !it->kkt_near)
+            rc = eom__kkt_project(s, it->t, y, it->o.proj_tol, &iters,
+                                  &dense);
+        if (rc == EOM_OK && dense)
+            rc = eom__project_step(s, it->t, y, it->o.proj_tol,
+                                   eom__integ_proj_qtol(it, y), &iters);
         if (rc != EOM_OK) {
             snprintf(it->msg, sizeof it->msg, "at t = %.17g: %s", it->t,
                      s->msg);
@@ -584,6 +616,14 @@ int eom__integ_create(eom_integ **out, eom_system *s, const eom_opts *o,
     it->svd_base = s->n_svd;
     it->refuse_singular =
         s->m > 0 && (o->method == EOM_ADAMS || o->method == EOM_IDA);
+    /* the sparse path: methods that need of the constraint system only
+     * its solve, the projection and the branch monitor (bdf, ida, esdirk
+     * and imex read its dense factors for their Jacobians and error
+     * projections; sensitivities are dense) */
+    it->kkt = s->m > 0 && o->n_sens == 0 &&
+              (o->method == EOM_RK4 || o->method == EOM_ERK ||
+               o->method == EOM_ADAMS) &&
+              eom__kkt_applies(s);
     rc = EOM_OK;
     if (fresh && s->m > 0 && o->project) {
         /* a start off the constraints is taken onto them here, by the
@@ -603,6 +643,8 @@ int eom__integ_create(eom_integ **out, eom_system *s, const eom_opts *o,
     }
     if (rc == EOM_OK && s->m > 0 && o->n_sens > 0)
         rc = sens_start(it);
+    if (rc == EOM_OK && it->kkt && (rc = kkt_measure(it, t0, it->y)))
+        snprintf(it->msg, sizeof it->msg, "%s", s->msg);
     if (rc == EOM_OK)
         rc = it->ops->init(it);
     if (rc == EOM_OK && fresh && it->refuse_singular) {
@@ -619,7 +661,21 @@ int eom__integ_create(eom_integ **out, eom_system *s, const eom_opts *o,
         eom__integ_name_rows(it, it->y);
     /* a handover borrows the monitor of the integrator it works for */
     if (rc == EOM_OK && fresh && s->m > 0) {
-        rc = eom__branch_new(&it->branch, s, t0, it->y);
+        if (it->kkt && !it->kkt_near) {
+            /* the rank is full here: no dense elimination (the factor
+             * at the start again: init's evaluations replaced it) */
+            double *norm = malloc((size_t)s->m * sizeof *norm);
+            rc = EOM_ERR_NOMEM;
+            if (norm && (rc = kkt_measure(it, t0, it->y)) == EOM_OK &&
+                !it->kkt_near) {
+                eom__kkt_row_norms(s, norm);
+                rc = eom__branch_new_regular(&it->branch, s, t0, it->y,
+                                             norm);
+            }
+            free(norm);
+        }
+        if (rc == EOM_OK && !it->branch)
+            rc = eom__branch_new(&it->branch, s, t0, it->y);
         if (rc == EOM_OK)
             rc = eom__branch_mark(it->branch);
         if (rc != EOM_OK)
@@ -757,7 +813,8 @@ int eom_integ_stats(const eom_integ *it, eom_stats *st)
     st->failures += it->handed.failures;
     st->jac_evals += it->handed.jac_evals;
     st->linear_solver = it->linsol;
-    st->mass_route = eom__mass_route(it->s); /* mass_route.h */
+    /* mass_route.h; the sparse path: kkt_integ.c */
+    st->mass_route = it->kkt ? EOM_MASS_SPARSE : eom__mass_route(it->s);
     if (it->sub) {
         /* a stretch still under way */
         eom_stats b;

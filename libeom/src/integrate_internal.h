@@ -76,6 +76,12 @@ struct eom_integ {
     int *sens;           /* [o.n_sens] the inputs of the sensitivities */
     double *S;           /* [2n x o.n_sens] row-major: the sensitivities at
                             t (integrate_cvode.c) */
+    int kkt;             /* rk4, erk, adams on a system whose eom_rhs is
+                            sparse (kkt_sparse.c): evaluations, the
+                            projection and the branch monitor take the
+                            sparse path (kkt_integ.c) while not kkt_near */
+    int kkt_near;        /* the last measure said: near a singular
+                            position, along the dense route */
     int linsol;          /* eom_stats.linear_solver: EOM_LINSOL_DENSE for
                             bdf and esdirk, ida's choice, 0 otherwise */
 };
@@ -134,6 +140,15 @@ int eom__branch_new(eom_branch **out, eom_system *s, double t,
                     const double *x);
 int eom__branch_check(eom_branch *b, eom_system *s, double t,
                       const double *x, long *evals);
+/* The integrators' sparse path (kkt_integ.c), away from singular
+ * positions: a monitor made from the row lengths of C (norm, m) with
+ * the full rank m at the start, and a step at (t, x) known to be away
+ * from any singular position (nothing evaluated; a pass under way is
+ * ended by eom__branch_check instead). */
+int eom__branch_new_regular(eom_branch **out, eom_system *s, double t,
+                            const double *x, const double *norm);
+int eom__branch_in_pass(const eom_branch *b);
+void eom__branch_regular(eom_branch *b, double t, const double *x);
 /* switches seen, the time of the first, and the singular neighbourhoods
  * passed (any of b, first, passes may be NULL) */
 long eom__branch_switches(const eom_branch *b, double *first,

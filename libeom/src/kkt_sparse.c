@@ -32,58 +32,25 @@
  * compiled tapes, n > 64, as the constant route); otherwise, and at every evaluation whose KLU factor
  * is poorly conditioned (a singular position, where the range-space
  * method's filtered solve is the one to use: rhs.c, EOM_RCOND_PINV), the
- * dense range-space evaluation runs instead. Only eom_rhs and
- * eom_multipliers take this route: the integrators evaluate through
- * eom__evaluate, whose conditioning of C M^-1 C^T (rcond_S, S_pinv) their
- * handling of singular positions reads.
+ * dense range-space evaluation runs instead. eom_rhs and
+ * eom_multipliers take this route, and so do rk4, erk and adams away
+ * from singular positions (kkt_integ.c: the augmented factor is also
+ * their projection's, and eom__kkt_factor_at / eom__kkt_solve its
+ * pieces); the other integrators evaluate through eom__evaluate, whose
+ * factors of C M^-1 C^T their Jacobians and error projections read.
  */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "eom_internal.h"
+#include "kkt_sparse.h"
 #include "mass_route.h"
 
 /* Below this many coordinates the dense range-space solve is as fast
  * (bench-a02-growth: at N = 10, n = 22, the two are within 10 %). */
 #define EOM_KKT_MIN_N 32
-/* KLU's reciprocal pivot ratio of the augmented matrix below which this
- * evaluation goes to the dense route (its filtered solve near a
- * singular position). */
-#define EOM_KKT_RCOND 1e-10
 
-struct eom_kkt {
-    bool analysed, ok;
-    int n, m, p;         /* coordinates, rows, colours of C's columns */
-    int *color;          /* [n] each column's colour */
-    double *seed;        /* [n p] the directions, row-major */
-    double *JS;          /* [m p] C times them */
-    int N;               /* n + m */
-    int *Kp, *Ki;        /* the augmented matrix, compressed columns */
-    double *Kx;
-    long *src;           /* [nnz] >= 0: entry of mvals; < 0: -1 - entry
-                            of JS */
-    double *b;           /* [N] right side, then solution */
-    int pm;              /* colours of M's columns */
-    int *mcolor;         /* [n] each column's colour */
-    double *mseed;       /* [ni pm] directions on the rates, row-major */
-    double *mhs;         /* [ni pm] H times them */
-    double *mg;          /* [ni] gradient (not used) */
-    double *mvals;       /* [M's nnz] the constant M's entries */
-    bool mheld;          /* mvals is M for parameters of generation mgen */
-    unsigned long mgen;
-    /* workspaces of the L and phi tapes of their own, as wide as the
-     * colours: the system's are n wide, and a sweep clears (and strides
-     * through) tangents of that width, which would cost O(n) per op */
-    tp_ws *wsL, *wsphi;
-    unsigned long wgen;  /* s->param_gen their parameters were set at */
-    bool wset;
-    long solves;         /* evaluations solved here */
-    long fallbacks;      /* evaluations handed to the dense route */
-    klu_common kc;
-    klu_symbolic *sym;
-    klu_numeric *num;
-};
 
 void eom__kkt_free(eom_kkt **p)
 {
@@ -95,6 +62,7 @@ void eom__kkt_free(eom_kkt **p)
         klu_free_numeric(&k->num, &k->kc);
     if (k->sym)
         klu_free_symbolic(&k->sym, &k->kc);
+    eom__kkt_integ_free(k);
     tp_ws_free(&k->wsL);
     tp_ws_free(&k->wsphi);
     free(k->color);
@@ -367,6 +335,48 @@ static int factor(eom_kkt *k)
     return 0;
 }
 
+int eom__kkt_factor_at(eom_system *s, double t, const double *x, int *poor)
+{
+    eom_kkt *k = s->kkt;
+    const int nnz = k->Kp[k->N];
+    int st, rc, e;
+    *poor = 0;
+    sync_params(s, k);
+    if ((rc = mass_values(s, k, t, x)) != EOM_OK)
+        return rc;
+    st = tp_jvp(k->wsphi, x, k->p, k->seed, s->phi, k->JS);
+    if ((rc = eom__tape_status(s, st, "the constraints or their Jacobian")))
+        return rc;
+    for (e = 0; e < nnz; e++)
+        k->Kx[e] = k->src[e] >= 0 ? k->mvals[k->src[e]]
+                                  : k->JS[-1 - k->src[e]];
+    *poor = factor(k);
+    return EOM_OK;
+}
+
+int eom__kkt_solve(eom_system *s, double *b)
+{
+    eom_kkt *k = s->kkt;
+    if (!klu_solve(k->sym, k->num, k->N, 1, b, &k->kc))
+        return eom__fail(s, EOM_ERR_LINALG, "KLU solve failed (status %d)",
+                         k->kc.status);
+    return EOM_OK;
+}
+
+void eom__kkt_C_times(const eom_system *s, const double *v, double *out)
+{
+    const eom_kkt *k = s->kkt;
+    const int n = k->n, m = k->m;
+    int i, e;
+    /* row i of C is column n + i of K above its diagonal block */
+    for (i = 0; i < m; i++) {
+        double sum = 0.0;
+        for (e = k->Kp[n + i]; e < k->Kp[n + i + 1]; e++)
+            sum += k->Kx[e] * v[k->Ki[e]];
+        out[i] = sum;
+    }
+}
+
 /* After eom__evaluate_free (F in s->F): M's entries (once), C, gam, the
  * augmented solve; qdd and lam into s. *dense set to 1 when this
  * evaluation should take the dense route instead. */
@@ -374,31 +384,20 @@ static int solve(eom_system *s, double t, const double *x, int *dense)
 {
     eom_kkt *k = s->kkt;
     const int n = s->n, m = s->m;
-    const int nnz = k->Kp[k->N];
-    int st, rc, j, e;
-    sync_params(s, k);
-    if ((rc = mass_values(s, k, t, x)) != EOM_OK)
+    int rc, j;
+    if ((rc = eom__kkt_factor_at(s, t, x, dense)) != EOM_OK)
         return rc;
-    st = tp_jvp(k->wsphi, x, k->p, k->seed, s->phi, k->JS);
-    if ((rc = eom__tape_status(s, st, "the constraints or their Jacobian")))
-        return rc;
+    if (*dense)
+        return EOM_OK;
     if ((rc = eom__constraint_rates(s, t, x, NULL, s->phid, s->gam)))
         return rc;
-    for (e = 0; e < nnz; e++)
-        k->Kx[e] = k->src[e] >= 0 ? k->mvals[k->src[e]]
-                                  : k->JS[-1 - k->src[e]];
-    if (factor(k) != 0) {
-        *dense = 1;
-        return EOM_OK;
-    }
     memcpy(k->b, s->F, (size_t)n * sizeof(double));
     for (j = 0; j < m; j++)
         k->b[n + j] = -s->gam[j] - 2.0 * s->alpha * s->phid[j] -
                       s->beta * s->beta * s->phi[j];
     memcpy(s->gam, k->b + n, (size_t)m * sizeof(double));
-    if (!klu_solve(k->sym, k->num, k->N, 1, k->b, &k->kc))
-        return eom__fail(s, EOM_ERR_LINALG, "KLU solve failed (status %d)",
-                         k->kc.status);
+    if ((rc = eom__kkt_solve(s, k->b)) != EOM_OK)
+        return rc;
     memcpy(s->qdd, k->b, (size_t)n * sizeof(double));
     for (j = 0; j < m; j++)
         s->lam[j] = -k->b[n + j];
@@ -420,6 +419,9 @@ int eom__evaluate_rhs(eom_system *s, double t, const double *x)
     if (rc != EOM_OK)
         return rc;
     s->kkt->solves++;
+    /* no filtered pseudo-inverse in this evaluation (an integrator's
+     * refusal of singular positions reads it) */
+    s->S_pinv = false;
     /* fixed holonomic constraints do no work: power_t is -dL/dt alone */
     s->power += s->power_t;
     if (!eom__finite(s->qdd, (size_t)s->n))
