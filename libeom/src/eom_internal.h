@@ -543,6 +543,9 @@ int eom__mass_solve(eom_system *s, double *B, int nrhs);
 int eom__constraints_at(eom_system *s, double t, const double *q);
 /* Form S = C M^-1 C^T (also Y = M^-1 C^T) and factor it with KLU. */
 int eom__factor_S(eom_system *s);
+/* S's KLU analysis and pseudo-inverse arrays, made on the first call
+ * (system.c; eom__factor_S calls it). */
+int eom__setup_klu(eom_system *s);
 /* Solve S z = b in place (m values). */
 int eom__S_solve(eom_system *s, double *b);
 /* The correction of least W-norm with the factors of S and Y = W^-1 C^T

@@ -344,6 +344,8 @@ int eom__factor_S(eom_system *s)
 {
     const int n = s->n, m = s->m;
     int i, j, k, rc;
+    if ((rc = eom__setup_klu(s)) != EOM_OK)
+        return rc;
     memcpy(s->Y, s->C, (size_t)m * (size_t)n * sizeof(double));
     if ((rc = eom__mass_solve(s, s->Y, m)) != EOM_OK)
         return rc;

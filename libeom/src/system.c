@@ -565,7 +565,28 @@ static int alloc_arrays(eom_system *s)
     return EOM_OK;
 }
 
-/* KLU for S: a dense m x m pattern, analyzed once. */
+/* Free what setup_klu made (after a failure, so that another call
+ * starts afresh). */
+static void free_klu(eom_system *s)
+{
+    if (s->ksym)
+        klu_free_symbolic(&s->ksym, &s->kc);
+    free(s->Sp);
+    free(s->Si);
+    free(s->Sx);
+    free(s->Sa);
+    free(s->Su);
+    free(s->Svt);
+    free(s->Ssv);
+    free(s->Swork);
+    s->Sp = s->Si = NULL;
+    s->Sx = s->Sa = s->Su = s->Svt = s->Ssv = s->Swork = NULL;
+}
+
+/* KLU for S: a dense m x m pattern, analyzed once, with the arrays of
+ * S's pseudo-inverse; made at the first factorization of S (rhs.c), not
+ * with the system: on the sparse route (kkt_sparse.c) S is never formed,
+ * and at m = 8001 these take about 0.5 GB and a second of analysis. */
 static int setup_klu(eom_system *s)
 {
     const int m = s->m;
@@ -579,8 +600,11 @@ static int setup_klu(eom_system *s)
     s->Su = malloc((size_t)m * (size_t)m * sizeof(double));
     s->Svt = malloc((size_t)m * (size_t)m * sizeof(double));
     s->Ssv = malloc((size_t)m * sizeof(double));
-    if (!s->Sp || !s->Si || !s->Sx || !s->Sa || !s->Su || !s->Svt || !s->Ssv)
+    if (!s->Sp || !s->Si || !s->Sx || !s->Sa || !s->Su || !s->Svt ||
+        !s->Ssv) {
+        free_klu(s);
         return eom__fail(s, EOM_ERR_NOMEM, "out of memory");
+    }
     {
         double query = 0.0;
         int lwork = -1, info = 0;
@@ -588,8 +612,10 @@ static int setup_klu(eom_system *s)
                 &query, &lwork, &info, 1, 1);
         s->Slwork = info == 0 && query >= 1.0 ? (int)query : 5 * m;
         s->Swork = malloc((size_t)s->Slwork * sizeof(double));
-        if (!s->Swork)
+        if (!s->Swork) {
+            free_klu(s);
             return eom__fail(s, EOM_ERR_NOMEM, "out of memory");
+        }
     }
     for (j = 0; j <= m; j++)
         s->Sp[j] = j * m;
@@ -598,10 +624,20 @@ static int setup_klu(eom_system *s)
             s->Si[j * m + i] = i;
     klu_defaults(&s->kc);
     s->ksym = klu_analyze(m, s->Sp, s->Si, &s->kc);
-    if (!s->ksym)
-        return eom__fail(s, EOM_ERR_LINALG, "KLU analysis failed (status %d)",
-                         s->kc.status);
+    if (!s->ksym) {
+        const int st = s->kc.status;
+        free_klu(s);
+        return eom__fail(s, st == KLU_OUT_OF_MEMORY ? EOM_ERR_NOMEM
+                                                    : EOM_ERR_LINALG,
+                         "KLU analysis of C M^-1 C^T failed (status %d)",
+                         st);
+    }
     return EOM_OK;
+}
+
+int eom__setup_klu(eom_system *s)
+{
+    return s->ksym ? EOM_OK : setup_klu(s);
 }
 
 static void copy_msg(char *dst, size_t len, const char *src)
@@ -710,8 +746,6 @@ int eom_system_new(eom_system **out, const eom_model *m, char *errmsg,
          (rc = record(s, m, &s->tD, EOM_ROLE_STATE, eom__body_drawings,
                       "drawings", 1, false)) != EOM_OK))
         goto fail;
-    if (s->m > 0 && (rc = setup_klu(s)) != EOM_OK)
-        goto fail;
     s->reads_time = s->tL.tindex >= 0 || s->tE.tparam >= 0 ||
                     s->tR.tparam >= 0 || s->tphi.tindex >= 0 ||
                     s->tpsi.tindex >= 0;
@@ -819,8 +853,6 @@ int eom_system_clone(eom_system **out, const eom_system *s, char *errmsg,
     }
     memcpy(c->tRes.pmap, s->tRes.pmap, (size_t)c->np * sizeof(int));
     if ((rc = eom__probe_multipliers(c)) != EOM_OK)
-        goto fail;
-    if (c->m > 0 && (rc = setup_klu(c)) != EOM_OK)
         goto fail;
     if (s->compiled &&
         (rc = eom_system_set_compiled(c, 1, NULL)) != EOM_OK) {
