@@ -19,8 +19,17 @@
  * (at least 0.3 s of them, 0.05 s with --quick); the growth exponent
  * between two sizes is log(t2 / t1) / log(N2 / N1).
  *
- * The dense route is timed up to N = 400 (DENSE_MAX_N) and adams run
- * up to N = 100 (ADAMS_MAX_N): both cost about N^3 per evaluation.
+ * The dense route is timed up to N = 400 (DENSE_MAX_N): it costs about
+ * N^3 per evaluation.
+ *
+ * The second table integrates the first 0.5 s (ten outputs, rtol = atol
+ * = 1e-8) from the model's start (every crank upright, th = pi/2, th' =
+ * -1): adams and erk on the automatic route at every N (the integrators'
+ * sparse path, kkt_integ.c), adams on the dense route and bdf (whose
+ * iteration matrix is dense) up to N = 100 (RUN_DENSE_MAX_N), with the
+ * processor time, the steps and right-hand sides, the largest distance
+ * of any tip from the pendulum's at the outputs, and the process's peak
+ * resident memory so far (getrusage: sizes run in ascending order).
  *
  * usage: bench-a02-growth [--quick] [N ...]   (default 40 400 4000)
  */
@@ -29,6 +38,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <sys/resource.h>
 
 #include "eom/eom.h"
 #include "eom/model_file.h"
@@ -81,9 +91,19 @@ static void branch(int N, double th, double w, double *x, double *qdd)
  * factored at every evaluation): 3 s per call at N = 400 already. Above
  * this it is not timed, and its accelerations come from one call. */
 #define DENSE_MAX_N 400
-/* The integrators evaluate along the range-space route (kkt_sparse.c):
- * adams is run up to this size. */
-#define ADAMS_MAX_N 100
+/* The runs along dense factors (adams forced dense, bdf): up to this
+ * size. */
+#define RUN_DENSE_MAX_N 100
+#define RUNS 4
+
+typedef struct run_row {
+    const char *what;
+    int done, ok;
+    double cpu, err;
+    long steps, rhs;
+    double rss_mb;
+    char why[256];
+} run_row;
 
 typedef struct row {
     int N, ok;
@@ -92,8 +112,7 @@ typedef struct row {
     double err[2];    /* against the closed form */
     double routes;    /* between the routes */
     int route;        /* the automatic route */
-    double t_run, err_run; /* adams to 0.5 s: processor time, B_0 error */
-    int run_ok;
+    run_row runs[RUNS]; /* 0.5 s of motion (run_motion) */
     char why[512];
 } row;
 
@@ -123,38 +142,58 @@ static double maxdiff(const double *a, const double *b, int n)
     return d;
 }
 
-static void run_adams(eom_system *s, int N, row *r)
+static double peak_mb(void)
+{
+    struct rusage ru;
+    return getrusage(RUSAGE_SELF, &ru) == 0 ? ru.ru_maxrss / 1024.0 : NAN;
+}
+
+/* 0.5 s from the model's start with method along route (0: automatic):
+ * the largest distance of any tip from the pendulum's at ten outputs */
+static void run_motion(eom_system *s, int N, eom_method method, int route,
+                       run_row *r)
 {
     const int n = 2 * (N + 1);
     const double a = coef(N);
-    double *x = malloc(2 * (size_t)n * sizeof *x), th = 1.5707963267948966, w = -1.0;
+    double *x = malloc(2 * (size_t)n * sizeof *x), th = 1.5707963267948966,
+           w = -1.0, t0;
     eom_integ *it = NULL;
+    eom_stats st;
     eom_opts o;
-    double t0;
-    int k;
-    r->run_ok = 0;
-    if (!x || eom_initial_state(s, x) != EOM_OK) {
+    int k, i;
+    r->done = 1;
+    r->ok = 0;
+    if (!x || eom_initial_state(s, x) != EOM_OK ||
+        eom_system_set_mass_route(s, route) != EOM_OK) {
+        snprintf(r->why, sizeof r->why, "%s", eom_system_errmsg(s));
         free(x);
         return;
     }
     eom_opts_default(&o);
-    o.method = EOM_ADAMS;
+    o.method = method;
     o.rtol = o.atol = 1e-8;
     t0 = cpu_now();
-    if (eom_integ_new(&it, s, &o, 0.0, x) == EOM_OK) {
-        r->run_ok = 1;
-        for (k = 1; k <= 10 && r->run_ok; k++) {
+    if (eom_integ_new(&it, s, &o, 0.0, x) != EOM_OK) {
+        snprintf(r->why, sizeof r->why, "%s", eom_system_errmsg(s));
+    } else {
+        r->ok = 1;
+        for (k = 1; k <= 10; k++) {
             if (eom_integ_advance(it, 0.05 * k, x, NULL) != EOM_OK) {
                 snprintf(r->why, sizeof r->why, "%s", eom_integ_errmsg(it));
-                r->run_ok = 0;
+                r->ok = 0;
                 break;
             }
             hard_a02_pendulum(a, &th, &w, 0.05);
-            r->err_run = fmax(r->err_run, hypot(x[0] - Lr * cos(th),
-                                                x[N + 1] - Lr * sin(th)));
+            for (i = 0; i <= N; i++)
+                r->err = fmax(r->err, hypot(x[i] - i * Lr - Lr * cos(th),
+                                            x[N + 1 + i] - Lr * sin(th)));
         }
+        eom_integ_stats(it, &st);
+        r->steps = st.steps;
+        r->rhs = st.rhs_evals;
     }
-    r->t_run = cpu_now() - t0;
+    r->cpu = cpu_now() - t0;
+    r->rss_mb = peak_mb();
     eom_integ_free(&it);
     free(x);
 }
@@ -211,11 +250,16 @@ static void measure(int N, double min_time, row *r)
                          maxdiff(ld, la, m) / lmax);
     }
     r->ok = 1;
-    if (N <= ADAMS_MAX_N)
-        run_adams(s, N, r);
-    else
-        snprintf(r->why, sizeof r->why, "not run above N = %d",
-                 ADAMS_MAX_N);
+    r->runs[0].what = "adams, automatic";
+    run_motion(s, N, EOM_ADAMS, 0, &r->runs[0]);
+    r->runs[1].what = "erk, automatic";
+    run_motion(s, N, EOM_ERK, 0, &r->runs[1]);
+    r->runs[2].what = "adams, dense";
+    r->runs[3].what = "bdf, automatic";
+    if (N <= RUN_DENSE_MAX_N) {
+        run_motion(s, N, EOM_ADAMS, EOM_MASS_DENSE, &r->runs[2]);
+        run_motion(s, N, EOM_BDF, 0, &r->runs[3]);
+    }
 done:
     free(x);
     free(ex);
@@ -252,9 +296,9 @@ int main(int argc, char **argv)
     }
     printf("IFToMM A02, natural coordinates: time per right-hand side "
            "(processor time) by the mass matrix's route\n");
-    printf("%6s %6s %7s %10s %10s %9s %7s %9s %9s %9s %9s %s\n", "N",
+    printf("%6s %6s %7s %10s %10s %9s %7s %9s %9s %9s %9s\n", "N",
            "n", "auto", "dense s", "auto s", "dense/au", "growth",
-           "1st auto", "err dense", "err auto", "routes", "adams 0.5 s");
+           "1st auto", "err dense", "err auto", "routes");
     for (i = 0; i < nN; i++) {
         row *r = &rows[i];
         measure(Ns[i], quick ? 0.05 : 0.3, r);
@@ -270,15 +314,31 @@ int main(int argc, char **argv)
                                  log((double)r->N / rows[i - 1].N));
         else
             printf("%7s ", "-");
-        printf("%8.3gs %9.2e %9.2e %9.2e ", r->t_first[1], r->err[0],
+        printf("%8.3gs %9.2e %9.2e %9.2e\n", r->t_first[1], r->err[0],
                r->err[1], r->routes);
-        if (r->run_ok)
-            printf("%7.3g s (B0 err %.2e)\n", r->t_run, r->err_run);
-        else
-            printf("%s\n", r->why);
+        fflush(stdout);
     }
     printf("growth: exponent p in t ~ N^p of the automatic route between "
            "successive sizes; 1st auto: its first call (the tapes "
-           "analysed, M formed)\n");
+           "analysed, M formed)\n\n");
+    printf("0.5 s of motion from the start (rtol = atol = 1e-8, ten "
+           "outputs); error: largest tip distance from the pendulum's\n");
+    printf("%6s %-17s %10s %7s %7s %10s %10s\n", "N", "method, route",
+           "cpu s", "steps", "rhs", "tip error", "peak MB");
+    for (i = 0; i < nN; i++) {
+        int k;
+        for (k = 0; rows[i].ok && k < RUNS; k++) {
+            const run_row *u = &rows[i].runs[k];
+            if (!u->done)
+                continue;
+            if (u->ok)
+                printf("%6d %-17s %10.3g %7ld %7ld %10.2e %10.0f\n",
+                       rows[i].N, u->what, u->cpu, u->steps, u->rhs, u->err,
+                       u->rss_mb);
+            else
+                printf("%6d %-17s failed: %s\n", rows[i].N, u->what,
+                       u->why);
+        }
+    }
     return 0;
 }
