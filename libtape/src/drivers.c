@@ -459,7 +459,18 @@ int tp_lagrange_t(tp_ws *ws, const double *x, int out, double *L,
             tp__fwd0(ws, x, end);
             tp__rev1(ws, w, end, ws->g);
         }
-        for (c0 = 0; c0 < n && (M || h); c0 += ws->max_dirs) {
+        /* more than one vector of rates in one chunk: each row swept over
+         * the columns that can be non-zero in it alone (ranges.c) */
+        const bool ranged = n > TP_LANES && n <= ws->max_dirs && (M || h);
+        if (ranged) {
+            const unsigned mask = tp__unit_seed_mask(T, n, n);
+            if (ws->range_out != out || ws->range_n != n)
+                tp__lagrange_ranges(ws, out, n, end);
+            tp__fwd1_ranged(ws, x, n, mask, end);
+            tp__rev2_ranged(ws, w, n, mask, end, ws->g, ws->hs);
+            ok &= store_block(ws->hs, n, 0, n, timed, qd, M, h);
+        }
+        for (c0 = 0; c0 < n && (M || h) && !ranged; c0 += ws->max_dirs) {
             const int pc = n - c0 < ws->max_dirs ? n - c0 : ws->max_dirs;
             const unsigned mask = tp__unit_seed_mask(T, pc, n + c0);
             tp__fwd1(ws, x, pc, NULL, 0, n + c0, mask, end);

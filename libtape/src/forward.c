@@ -67,6 +67,7 @@ static void prepare_tangents(tp_ws *ws, unsigned mask, int p)
     ws->tan_mask = mask;
     if (p > ws->tan_cols)
         ws->tan_cols = p;
+    ws->tan_ranged = false; /* a full sweep may write any column */
 }
 
 static void load_leaves(tp_ws *ws, const double *x)
@@ -142,6 +143,39 @@ void tp__fwd1(tp_ws *ws, const double *x, int p, const double *S, size_t lds,
     } else {
         for (i = T->first_active; i < end; i++)
             tp__k_fwd1(&kx, i, opc[i], dep[i], a0[i], a1[i]);
+    }
+}
+
+/* tp__fwd1 with unit directions on independents n .. 2n-1, each op's
+ * row swept over its range alone (ranges.c): the columns outside it are
+ * zero, kept so by tan_ranged (cleared once when it does not hold). */
+TP_VECTOR_CLONES
+void tp__fwd1_ranged(tp_ws *ws, const double *x, int n, unsigned mask,
+                     uint32_t end)
+{
+    const tp_tape *T = ws->t;
+    const uint8_t *opc = T->opc, *dep = T->dep;
+    const uint32_t *a0 = T->a0, *a1 = T->a1, *fr = ws->frange;
+    const size_t P = (size_t)ws->P;
+    const bool ranged = ws->tan_ranged;
+    tp_kx k = tp__kx(ws, 0, mask);
+    double *tan = ws->tan;
+    uint32_t i;
+
+    prepare_tangents(ws, mask, tp__lanes(n));
+    if (!ranged)
+        for (i = 0; i < T->n_ops; i++)
+            if (T->dep[i] & mask)
+                memset(tan + i * P, 0,
+                       (size_t)ws->tan_cols * sizeof(double));
+    ws->tan_ranged = true;
+    load_leaves(ws, x);
+    for (i = 0; i < (uint32_t)n; i++)
+        tan[((size_t)n + i) * P + i] = 1.0;
+    for (i = T->first_active; i < end; i++) {
+        k.tan = tan + TP_LANES * (size_t)fr[2 * i];
+        k.pr = TP_LANES * (int)(fr[2 * i + 1] - fr[2 * i]);
+        tp__k_fwd1(&k, i, opc[i], dep[i], a0[i], a1[i]);
     }
 }
 

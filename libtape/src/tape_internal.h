@@ -234,6 +234,15 @@ struct tp_ws {
     const tp_compiled *cc; /* compiled sweeps in use, or NULL */
     double *cat, *cadj;    /* [n_ops * P], [n_ops]: scratch of its Lagrange
                               block (made with the first such cc) */
+    /* The Lagrange block's column ranges (ranges.c), in vectors of
+     * TP_LANES, (first, one past the last) per op: frange of its tangent
+     * row, rrange of its reverse kernels; for output range_out (-1: not
+     * worked out yet) and range_n rates. While tan_ranged holds, every
+     * tangent row is zero outside its frange (the ranged sweeps keep it;
+     * any other sweep writing tangents ends it). */
+    uint32_t *frange, *rrange; /* [2 * n_ops] each */
+    int range_out, range_n;
+    bool tan_ranged;
     char msg[TP_MSG_LEN];
 };
 
@@ -257,6 +266,14 @@ void tp__lagrange_compiled(tp_ws *ws, const double *x, double *g,
  * of every output's cone in ws, as tp__fwd1 with unit directions on
  * every independent leaves them for the outputs (forward.c). */
 void tp__jacobian_compiled(tp_ws *ws, const double *x);
+/* The Lagrange block's sweeps with every row swept over its range alone
+ * (ranges.c): unit directions on independents n .. 2n-1, n <= max_dirs,
+ * for output ws->range_out, after tp__lagrange_ranges(ws, out, n, end). */
+void tp__lagrange_ranges(tp_ws *ws, int out, int n, uint32_t end);
+void tp__fwd1_ranged(tp_ws *ws, const double *x, int n, unsigned mask,
+                     uint32_t end);
+void tp__rev2_ranged(tp_ws *ws, const double *w, int n, unsigned mask,
+                     uint32_t end, double *g, double *HS);
 /* Recompute the passive prefix of v if a parameter changed (forward.c). */
 void tp__ensure_passive(tp_ws *ws);
 /* The dependency mask of a seed (groups of independents it touches). */

@@ -24,6 +24,8 @@ static void ws_release(tp_ws *ws)
     tp__free(&al, ws->d2, n * sizeof(double));
     tp__free(&al, ws->cat, n * P * sizeof(double));
     tp__free(&al, ws->cadj, n * sizeof(double));
+    tp__free(&al, ws->frange, 2 * n * sizeof(uint32_t));
+    tp__free(&al, ws->rrange, 2 * n * sizeof(uint32_t));
     if (T) {
         tp__free(&al, ws->param, T->n_param * sizeof(double));
         tp__free(&al, ws->hs, (size_t)T->n_indep * P * sizeof(double));
@@ -47,11 +49,12 @@ size_t tp_ws_bytes(const tp_tape *t, int max_dirs)
     n = t->n_ops;
     P = ((size_t)max_dirs + TP_LANES - 1) / TP_LANES * TP_LANES;
     /* what tp_ws_new allocates: tan and atan (n x P), hs (n_indep x P),
-     * six arrays of n doubles and anz, the parameters, outputs and
-     * gradient */
+     * six arrays of n doubles and anz, the two range arrays (4 x n
+     * uint32_t), the parameters, outputs and gradient */
     b = tp__mulsz(tp__mulsz(tp__mulsz(n, P), 2), sizeof(double));
     b = addsz(b, tp__mulsz(tp__mulsz(t->n_indep, P), sizeof(double)));
-    b = addsz(b, tp__mulsz(n, 5 * sizeof(double) + 1));
+    b = addsz(b,
+              tp__mulsz(n, 5 * sizeof(double) + 1 + 4 * sizeof(uint32_t)));
     b = addsz(b, ((size_t)t->n_param + t->n_out + t->n_indep) *
                          sizeof(double));
     return addsz(b, sizeof(tp_ws));
@@ -95,9 +98,12 @@ int tp_ws_new(tp_ws **out, const tp_tape *t, int max_dirs,
     ws->hs = tp__calloc(&a, (size_t)t->n_indep * P, sizeof(double));
     ws->wout = tp__calloc(&a, t->n_out, sizeof(double));
     ws->g = tp__calloc(&a, t->n_indep, sizeof(double));
+    ws->frange = tp__calloc(&a, 2 * n, sizeof(uint32_t));
+    ws->rrange = tp__calloc(&a, 2 * n, sizeof(uint32_t));
+    ws->range_out = -1;
     if (!ws->v || !ws->aux || !ws->adj || !ws->tan || !ws->atan || !ws->anz || !ws->d1 ||
         !ws->d2 || !ws->param || !ws->hs || !ws->wout ||
-        !ws->g) {
+        !ws->g || !ws->frange || !ws->rrange) {
         ws_release(ws);
         return TP_ERR_NOMEM;
     }
