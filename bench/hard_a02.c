@@ -11,7 +11,10 @@
  * largest distance of B_0 (the first crank's tip, the benchmark's
  * reference point; its tolerances are 1e-1 and 1e-3) and of every crank
  * tip from the exact motion, the flat passes the branch monitor saw and
- * its branch switches, steps, evaluations and the processor time. */
+ * its branch switches, the singular stretches handed to another method
+ * (adams and ida to bdf; bdf, esdirk and imex, and adams and ida where
+ * their bdf failed, to erk: integrate_handover.c), steps, evaluations
+ * and the processor time. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -104,11 +107,12 @@ static int one(const char *dir, int natural, eom_method method,
     }
     eom_integ_stats(it, &st);
 done:
-    printf("| %s | %s | %s | %.2f | %.1e | %.1e | %ld | %ld | %ld | %ld | "
-           "%.1f |%s%s\n",
+    printf("| %s | %s | %s | %.2f | %.1e | %.1e | %ld | %ld | %ld (%ld) | "
+           "%ld | %ld | %.1f |%s%s\n",
            natural ? "natural" : "angles", eom_method_name(method),
            rc == EOM_OK ? "ok" : eom_status_name(rc), treached, eb, ea,
-           st.singular_passes, st.branch_switches, st.steps, st.rhs_evals,
+           st.singular_passes, st.branch_switches, st.singular_handovers,
+           st.singular_handovers_erk, st.steps, st.rhs_evals,
            cpu_now() - c0, msg[0] ? " " : "", msg);
     fflush(stdout);
     eom_integ_free(&it);
@@ -129,8 +133,9 @@ int hard_a02(const char *models_dir, int quick)
               nm = quick ? 2 : (int)(sizeof methods / sizeof *methods);
     int form, k, rc = 0;
     printf("| A02, N = 40 | method | status | t reached | B0 error | every "
-           "tip | flat passes seen | branch switches | steps | rhs | "
-           "cpu (s) |\n|---|---|---|---|---|---|---|---|---|---|---|\n");
+           "tip | flat passes seen | branch switches | stretches handed over "
+           "(to erk) | steps | rhs | cpu (s) |\n"
+           "|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (form = 0; form < 2; form++)
         for (k = k0; k < nm; k++)
             rc |= one(models_dir, form == 0, methods[k], quick ? 1.0 : 20.0);

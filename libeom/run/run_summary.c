@@ -99,10 +99,18 @@ void run_summary_print(const run_summary *r, FILE *f, const char *prog,
         else
             fprintf(f, "  singular positions passed %ld, branch switches 0\n",
                     st->singular_passes);
-        if (st->singular_handovers > 0)
+        if (st->singular_handovers > st->singular_handovers_erk)
             fprintf(f, "  singular stretches handed to bdf %ld (%s cannot "
                     "pass them; it restarts after each)\n",
-                    st->singular_handovers, method);
+                    st->singular_handovers - st->singular_handovers_erk,
+                    method);
+        if (st->singular_handovers_erk > 0)
+            fprintf(f, "  singular stretches handed to erk %ld (%s%s "
+                    "failed at them; it restarts after each)\n",
+                    st->singular_handovers_erk, method,
+                    st->singular_handovers > st->singular_handovers_erk
+                        ? " or its bdf"
+                        : "");
     } else {
         fprintf(f, "  constraint residual: none (no constraints)\n");
     }

@@ -776,7 +776,8 @@ int eom_integ_advance(eom_integ *it, double tout, double *x, double *W)
         rc = eom__integ_handover(it, tout);
     } else {
         rc = it->ops->advance(it, tout);
-        if (rc == EOM_ERR_RANK_DEFICIENT && it->refuse_singular)
+        if ((rc == EOM_ERR_RANK_DEFICIENT && it->refuse_singular) ||
+            eom__integ_hands_over(it, rc))
             rc = eom__integ_handover(it, tout);
     }
     /* where a handover would begin */
@@ -833,5 +834,6 @@ int eom_integ_stats(const eom_integ *it, eom_stats *st)
     /* the stretches' bdf may have kept less than the method */
     st->tol_reachable = fmax(st->tol_reachable, it->handed_reach);
     st->singular_handovers = it->handovers;
+    st->singular_handovers_erk = it->handovers_erk;
     return EOM_OK;
 }

@@ -99,11 +99,32 @@ int eom__ark_advance(eom_integ *it, double tout, const char *method)
     flag = f->set_min_step(a->mem, eom__sun_min_step(it->t, tout));
     if (flag >= 0)
         flag = f->set_stop_time(a->mem, tout);
-    if (flag >= 0)
+    if (flag >= 0 && it->handing) {
+        /* a singular stretch (integrate_handover.c): step by step, each
+         * accepted step's state evaluated for the conditioning of the
+         * constraint system, until the stretch is behind */
+        do {
+            flag = f->evolve(a->mem, tout, a->y, &tret, ARK_ONE_STEP);
+            if (flag < 0 || tret >= tout)
+                break;
+            it->st.rhs_evals++;
+            if (eom__evaluate(it->s, tret, N_VGetArrayPointer(a->y)) ==
+                    EOM_OK &&
+                eom__integ_stretch_done(it, tret)) {
+                it->t = tret;
+                memcpy(it->y, N_VGetArrayPointer(a->y),
+                       (size_t)it->N * sizeof(double));
+                return EOM_OK;
+            }
+        } while (1);
+    } else if (flag >= 0) {
         flag = f->evolve(a->mem, tout, a->y, &tret, ARK_NORMAL);
+    }
     f->get_current_time(a->mem, &tcur);
     if (flag < 0) {
-        /* it->y keeps the state at the last output time */
+        /* it->y keeps the state at the last output time; where it failed
+         * (a singular stretch handed to erk ends after it) */
+        it->t_refused = tcur;
         return eom__sun_failed(it, &a->rep, method, f->flag_name(flag),
                                tcur);
     }

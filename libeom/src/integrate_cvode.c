@@ -719,7 +719,9 @@ static int cv_advance(eom_integ *it, double tout)
             it->t = t_last; /* it->y still holds the state at t_last */
         return status;
     }
-    /* it->y keeps the state at the last output time */
+    /* it->y keeps the state at the last output time; where it failed
+     * (a singular stretch handed to erk ends after it) */
+    it->t_refused = tcur;
     status = eom__sun_failed(it, &c->rep, cv_name(it),
                              CVodeGetReturnFlagName(flag), tcur);
     {

@@ -59,18 +59,24 @@ struct eom_integ {
                             the per-step tolerance floor is 1e-10
                             (integrate.c) */
     int was_loose;       /* loose_floor was set at some time */
-    /* adams and ida hand a singular stretch to a bdf integrator
-     * (integrate_handover.c): */
-    int handing;         /* this is that bdf: stop after the stretch */
+    /* adams and ida hand a singular stretch to a bdf integrator, bdf,
+     * esdirk and imex (and adams and ida once bdf failed one) to an erk
+     * integrator (integrate_handover.c): */
+    int handing;         /* this is that integrator: stop after the
+                            stretch */
     int seen_singular;   /* handing: the stretch's singular part met */
     int stretch_over;    /* handing: stopped after it */
     double t_refused;    /* the time of the evaluation refused last (adams,
-                            ida), and handing: the method's */
-    struct eom_integ *sub; /* that bdf, while a stretch goes on across
-                              output times */
+                            ida) or of the last failure (the others),
+                            and handing: the method's */
+    struct eom_integ *sub; /* that integrator, while a stretch goes on
+                              across output times */
     int branch_borrowed; /* branch belongs to the integrator handing over */
     long handovers;      /* stretches handed over */
-    eom_stats handed;    /* counts of the bdf runs and of the method's
+    long handovers_erk;  /* of those, the ones erk integrated */
+    int stretch_erk;     /* adams, ida: a stretch's bdf failed, erk
+                            integrates the later ones */
+    eom_stats handed;    /* counts of the stretches' runs and of the method's
                             instances before each restart */
     double handed_reach; /* the largest tol_reachable of those bdf runs */
     int *sens;           /* [o.n_sens] the inputs of the sensitivities */
@@ -190,11 +196,17 @@ int eom__integ_create(eom_integ **out, eom_system *s, const eom_opts *o,
 int eom__integ_stretch_done(eom_integ *it, double t);
 
 /* adams, ida: the advance to tout failed with EOM_ERR_RANK_DEFICIENT at
- * a singular position after setup, or a stretch handed over earlier goes
- * on (it->sub): integrate the stretch with bdf from (it->t, it->y), and
- * after it restart the method and go on to tout. A status
- * (integrate_handover.c). */
+ * a singular position after setup; bdf, esdirk, imex: it failed so that
+ * eom__integ_hands_over says yes; or a stretch handed over earlier goes
+ * on (it->sub): integrate the stretch with bdf (adams, ida) or erk from
+ * (it->t, it->y), and after it restart the method and go on to tout. A
+ * status (integrate_handover.c). */
 int eom__integ_handover(eom_integ *it, double tout);
+/* 1 when bdf, esdirk or imex failed with status rc at a singular
+ * position that erk may pass: a solver failure with projection on, no
+ * sensitivities, and rcond of C M^-1 C^T below 1e-2 at the last
+ * evaluation. */
+int eom__integ_hands_over(const eom_integ *it, int rc);
 
 /* ---- what the SUNDIALS methods share (integrate_sundials.c) ---------- */
 

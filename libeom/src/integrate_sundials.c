@@ -124,8 +124,10 @@ int eom__sun_failed(eom_integ *it, const eom_sun_report *r,
          * not pass a singular position: name the one that did. Measured
          * on the IFToMM A02 linkage with 40 loops in natural coordinates
          * (tests/eom_constraints/test_a02.c): bdf stopped at the first
-         * flat position with steps of 5e-16 s (adams and ida too, through
-         * bdf), erk passed all 20 (3.7e-6 off the exact motion) */
+         * flat position with steps of 5e-16 s, erk passed all 20 (3.7e-6
+         * off the exact motion). Such a failure is handed to erk
+         * (integrate_handover.c); this message remains for the runs where
+         * it cannot be: with sensitivities, or with projection off */
         snprintf(note, sizeof note, "; %s cannot pass this singular "
                  "position: erk, which projects each accepted step outside "
                  "its error test, passes such positions "

@@ -710,11 +710,15 @@ typedef struct eom_stats {
                               integrators.md, "Singular positions"); the
                               run goes on */
     double first_branch_switch; /* the time of the first (0 if none) */
-    long singular_handovers; /* adams, ida: singular stretches that bdf
-                                integrated for them, the method restarting
-                                after each (docs/integrators.md,
-                                "Singular positions"); the counts above
-                                include bdf's */
+    long singular_handovers; /* singular stretches that another method
+                                integrated, the method restarting after
+                                each: adams's and ida's to bdf, bdf's,
+                                esdirk's and imex's (and adams's and
+                                ida's where bdf failed) to erk
+                                (docs/integrators.md, "Singular
+                                positions"); the counts above include
+                                theirs */
+    long singular_handovers_erk; /* of those, the ones erk integrated */
     /* what the error test was given (docs/integrators.md, "What the
      * tolerances mean"): */
     double step_tol;     /* the per-step relative tolerance for rtol:
