@@ -105,11 +105,11 @@ void run_summary_print(const run_summary *r, FILE *f, const char *prog,
                     st->singular_handovers - st->singular_handovers_erk,
                     method);
         if (st->singular_handovers_erk > 0)
-            fprintf(f, "  singular stretches handed to erk %ld (%s%s "
-                    "failed at them; it restarts after each)\n",
+            fprintf(f, "  singular stretches handed to erk %ld (%s could "
+                    "not pass them%s; it restarts after each)\n",
                     st->singular_handovers_erk, method,
-                    st->singular_handovers > st->singular_handovers_erk
-                        ? " or its bdf"
+                    strcmp(method, "adams") == 0 || strcmp(method, "ida") == 0
+                        ? ", nor bdf"
                         : "");
     } else {
         fprintf(f, "  constraint residual: none (no constraints)\n");
