@@ -216,15 +216,6 @@ static double row_sum_max(const double *C, int rows, int n)
     return m;
 }
 
-static double maxabs(const double *a, int n)
-{
-    double m = 0.0;
-    int i;
-    for (i = 0; i < n; i++)
-        m = fmax(m, fabs(a[i]));
-    return m;
-}
-
 /* v[0..n) -= Y S^-1 r, r (m) overwritten (eom_internal.h). */
 int eom__S_correct(eom_system *s, double *v, double *r)
 {
@@ -265,7 +256,7 @@ static int project(eom_system *s, double t, double *x, double tol,
      * tolerance */
     if ((rc = eom__constraint_rates(s, t, x, s->phi, s->phid, s->gam)))
         return rc;
-    if (maxabs(s->phi, m) <= tol && maxabs(s->phid, m) <= tol)
+    if (eom__maxabs(s->phi, m) <= tol && eom__maxabs(s->phid, m) <= tol)
         return EOM_OK;
     if (metric == METRIC_MASS ||
         (metric == METRIC_LAST_MASS && !s->mf_valid)) {
@@ -287,7 +278,7 @@ static int project(eom_system *s, double t, double *x, double tol,
     for (;;) {
         if ((rc = eom__constraints_at(s, t, x)) != EOM_OK)
             return rc;
-        res = maxabs(s->phi, mh);
+        res = eom__maxabs(s->phi, mh);
         if (qtol > 0.0)
             accept = fmax(tol, qtol * row_sum_max(s->C, mh, n));
         if (res <= tol)

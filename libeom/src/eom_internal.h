@@ -560,6 +560,10 @@ int eom__S_correct(eom_system *s, double *v, double *r);
 int eom__svd(eom_system *s, int rows, int cols, double *A, double *sv,
              double *U, double *VT, const char *what);
 
+/* max_i |a_i| over n values, 0 for none; a NaN entry is passed over, as
+ * fmax does (linalg.c). */
+double eom__maxabs(const double *a, size_t n);
+
 /* The system's tapes in a fixed order: L, E, R, Q, phi, residual, psi
  * (the order of eom_shared.cc). */
 void eom__tapes(eom_system *s, eom_tape *t[EOM_N_TAPES]);

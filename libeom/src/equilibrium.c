@@ -110,15 +110,6 @@ static double *work_new(eq_work *w, int n, int m)
     return p;
 }
 
-static double maxabs(const double *a, int n)
-{
-    double r = 0.0;
-    int i;
-    for (i = 0; i < n; i++)
-        r = fmax(r, fabs(a[i]));
-    return r;
-}
-
 /* r (n + m) at (q, lam), the forces Q(q, 0) included; leaves C and phi
  * at q in s. */
 static int residual(eom_system *s, eq_work *w, const double *q,
@@ -250,8 +241,8 @@ static int line_search(eom_system *s, eq_work *w, double *q, bool *stalled)
 {
     const int n = s->n, m = s->m, k = w->k;
     const double f0 = scaled_norm2(w, w->r);
-    const double big = maxabs(w->dz, n);
-    const double limit = EOM_EQ_MAXSTEP * fmax(1.0, maxabs(q, n));
+    const double big = eom__maxabs(w->dz, n);
+    const double limit = EOM_EQ_MAXSTEP * fmax(1.0, eom__maxabs(q, n));
     double slope = 0.0, alpha = 1.0;
     int i, j, tries, rc;
 
@@ -308,7 +299,7 @@ static int solve(eom_system *s, eq_work *w, double *q, double tol,
             return rc;
     }
     for (*iters = 0;; ++*iters) {
-        res = maxabs(w->r, k);
+        res = eom__maxabs(w->r, k);
         if (res <= tol)
             return EOM_OK;
         if (*iters == EOM_EQ_MAXIT)

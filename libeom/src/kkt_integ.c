@@ -175,15 +175,6 @@ void eom__kkt_row_norms(const eom_system *s, double *norm)
     }
 }
 
-static double maxabs(const double *a, int n)
-{
-    double m = 0.0;
-    int i;
-    for (i = 0; i < n; i++)
-        m = fmax(m, fabs(a[i]));
-    return m;
-}
-
 int eom__kkt_project(eom_system *s, double t, double *x, double tol,
                      int *iters, int *dense)
 {
@@ -198,7 +189,7 @@ int eom__kkt_project(eom_system *s, double t, double *x, double tol,
     /* nothing to do when phi and C qd are within the tolerance */
     if ((rc = eom__constraint_rates(s, t, x, s->phi, s->phid, s->gam)))
         return rc;
-    if (maxabs(s->phi, m) <= tol && maxabs(s->phid, m) <= tol)
+    if (eom__maxabs(s->phi, m) <= tol && eom__maxabs(s->phid, m) <= tol)
         return EOM_OK;
     for (;;) {
         if ((rc = eom__kkt_factor_at(s, t, x, &poor)) != EOM_OK)
@@ -207,7 +198,7 @@ int eom__kkt_project(eom_system *s, double t, double *x, double tol,
             *dense = 1;
             return EOM_OK;
         }
-        res = maxabs(s->phi, m);
+        res = eom__maxabs(s->phi, m);
         if (res <= tol)
             break;
         if (it == EOM_PROJ_MAXIT)

@@ -1,6 +1,9 @@
 /* linalg.c - LAPACK calls that need more than one line: the full SVD with
  * its workspace query (used by the null-space reduction of the
- * linearization and by the equilibrium solver). */
+ * linearization and by the equilibrium solver); and the largest magnitude
+ * in a vector, which the projections, the equilibrium solver and the
+ * linearizations measure their residuals and scales with. */
+#include <math.h>
 #include <stdlib.h>
 
 #include "eom_internal.h"
@@ -28,4 +31,13 @@ int eom__svd(eom_system *s, int rows, int cols, double *A, double *sv,
                          "dgesvd: the SVD of %s did not converge (%d "
                          "superdiagonals)", what, info);
     return EOM_OK;
+}
+
+double eom__maxabs(const double *a, size_t n)
+{
+    double m = 0.0;
+    size_t i;
+    for (i = 0; i < n; i++)
+        m = fmax(m, fabs(a[i]));
+    return m;
 }

@@ -115,15 +115,6 @@ static double *work_new(lin_work *w, int n, int m)
     return p;
 }
 
-static double maxabs(const double *a, size_t n)
-{
-    double r = 0.0;
-    size_t i;
-    for (i = 0; i < n; i++)
-        r = fmax(r, fabs(a[i]));
-    return r;
-}
-
 /* X := (X + X^T) / 2 for X n x n: removes the rounding asymmetry of the
  * sweeps, so LAPACK's choice of triangle does not matter. */
 static void symmetrize(double *X, int n)
@@ -151,7 +142,7 @@ static int svd_ct(eom_system *s, lin_work *w)
 static int check_on_manifold(eom_system *s, const double *q)
 {
     const int n = s->n, m = s->m;
-    const double qs = fmax(1.0, maxabs(q, (size_t)n));
+    const double qs = fmax(1.0, eom__maxabs(q, (size_t)n));
     double cmax = 0.0;
     int i, k;
     for (k = 0; k < m; k++) {
@@ -187,9 +178,9 @@ static int check_rest(eom_system *s, const double *q, const lin_work *w,
                       const double *K)
 {
     const int n = s->n, m = s->m;
-    const double scale = maxabs(w->g, (size_t)n) +
-                         maxabs(K, (size_t)n * (size_t)n) *
-                             fmax(1.0, maxabs(q, (size_t)n));
+    const double scale = eom__maxabs(w->g, (size_t)n) +
+                         eom__maxabs(K, (size_t)n * (size_t)n) *
+                             fmax(1.0, eom__maxabs(q, (size_t)n));
     double worst = 0.0;
     int i, k, at = 0;
     for (i = 0; i < n; i++) {
@@ -275,7 +266,7 @@ static void reduce(int n, int nr, const double *N, const double *X,
 static int check_symmetric(eom_system *s, const double *K)
 {
     const int n = s->n;
-    const double big = maxabs(K, (size_t)n * (size_t)n);
+    const double big = eom__maxabs(K, (size_t)n * (size_t)n);
     double worst = 0.0;
     int i, j, wi = 0, wj = 0;
     for (i = 0; i < n; i++)

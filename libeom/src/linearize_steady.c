@@ -61,15 +61,6 @@ void eom_steady_linear_free(eom_steady_linear *lin)
     memset(lin, 0, sizeof *lin);
 }
 
-static double maxabs(const double *a, size_t n)
-{
-    double r = 0.0;
-    size_t i;
-    for (i = 0; i < n; i++)
-        r = fmax(r, fabs(a[i]));
-    return r;
-}
-
 int eom_steady_check(eom_system *s, double t, const double *x, double *acc,
                      double *scale, int *at)
 {
@@ -97,8 +88,8 @@ int eom_steady_check(eom_system *s, double t, const double *x, double *acc,
      * max |d(qdd)/dx| max(1, max |x|), as eom_linearize's rest test */
     if ((rc = eom_state_jacobian(s, t, x, w)) != EOM_OK)
         goto done;
-    big = maxabs(w + 2 * (size_t)n * (size_t)n, 2 * (size_t)n * (size_t)n) *
-          fmax(1.0, maxabs(x, 2 * (size_t)n));
+    big = eom__maxabs(w + 2 * (size_t)n * (size_t)n, 2 * (size_t)n * (size_t)n) *
+          fmax(1.0, eom__maxabs(x, 2 * (size_t)n));
     if ((rc = eom_rhs(s, t, x, xd)) != EOM_OK)
         goto done;
     /* the size of the terms: each of M^-1 dL/dq, M^-1 h, M^-1 Qv and the
@@ -468,9 +459,9 @@ static int steady(eom_system *s, double t, const double *x, const int *names,
     w->nz = lin->full.nz;
     w->T = lin->full.T;
     w->Ar = lin->full.Ar;
-    w->scale = maxabs(lin->full.Ar, (size_t)w->nz * (size_t)w->nz);
+    w->scale = eom__maxabs(lin->full.Ar, (size_t)w->nz * (size_t)w->nz);
     /* cyclic coordinates: a zero column of A */
-    cmax = maxabs(lin->full.A, (size_t)n2 * (size_t)n2);
+    cmax = eom__maxabs(lin->full.A, (size_t)n2 * (size_t)n2);
     for (i = 0; i < n; i++) {
         double c = 0.0;
         for (j = 0; j < n2; j++)
