@@ -132,3 +132,20 @@ double num_loglog_slope(int n, const double *x, const double *y)
     }
     return (n * sxy - sx * sy) / (n * sxx - sx * sx);
 }
+
+void num_rk4_pendulum(double a, double *th, double *w, double dt,
+                      double hmax)
+{
+    const long k = (long)ceil(dt / hmax);
+    const double h = dt / (double)k;
+    long i;
+    for (i = 0; i < k; i++) {
+        const double t0 = *th, w0 = *w;
+        const double k1t = w0, k1w = -a * cos(t0);
+        const double k2t = w0 + h / 2 * k1w, k2w = -a * cos(t0 + h / 2 * k1t);
+        const double k3t = w0 + h / 2 * k2w, k3w = -a * cos(t0 + h / 2 * k2t);
+        const double k4t = w0 + h * k3w, k4w = -a * cos(t0 + h * k3t);
+        *th = t0 + h / 6 * (k1t + 2 * k2t + 2 * k3t + k4t);
+        *w = w0 + h / 6 * (k1w + 2 * k2w + 2 * k3w + k4w);
+    }
+}

@@ -26,6 +26,12 @@ size_t num_count_diff(const double *a, const double *b, size_t n);
  * > 0): the order a convergence study observes. */
 double num_loglog_slope(int n, const double *x, const double *y);
 
+/* Advance th'' = -a cos th (the IFToMM A02 four-bars' exact motion: every
+ * crank turns like this pendulum) by dt with classical RK4 steps of at
+ * most hmax: the reference the A02 tests compare crank tips with. */
+void num_rk4_pendulum(double a, double *th, double *w, double dt,
+                      double hmax);
+
 /* A vector function y[m] = f(x[n]) for finite differences; returns 0, or
  * non-zero when it cannot be evaluated (the difference then fails). */
 typedef int (*num_vfunc)(void *ctx, const double *x, double *y);

@@ -31,6 +31,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "support_num.h"
 #include "eom/eom.h"
 #include "eom/model_file.h"
 #include "eom_internal.h"
@@ -56,22 +57,6 @@ static eom_system *a02(int N)
     return s;
 }
 
-/* th'' = -a cos th by classical RK4 at steps of at most 1e-5 s */
-static void pendulum(double a, double *th, double *w, double dt)
-{
-    const long k = (long)ceil(dt / 1e-5);
-    const double h = dt / (double)k;
-    long i;
-    for (i = 0; i < k; i++) {
-        const double t0 = *th, w0 = *w;
-        const double k1t = w0, k1w = -a * cos(t0);
-        const double k2t = w0 + h / 2 * k1w, k2w = -a * cos(t0 + h / 2 * k1t);
-        const double k3t = w0 + h / 2 * k2w, k3w = -a * cos(t0 + h / 2 * k2t);
-        const double k4t = w0 + h * k3w, k4w = -a * cos(t0 + h * k3t);
-        *th = t0 + h / 6 * (k1t + 2 * k2t + 2 * k3t + k4t);
-        *w = w0 + h / 6 * (k1w + 2 * k2w + 2 * k3w + k4w);
-    }
-}
 
 /* The largest distance of a tip from the pendulum's (l = 1): tip i at
  * (i + cos th, sin th). */
@@ -119,7 +104,7 @@ static int run(int N, eom_method method, int route, double t_end, int nout,
     rc = eom_integ_new(&it, s, &o, 0.0, x);
     for (k = 1; rc == EOM_OK && k <= nout; k++) {
         rc = eom_integ_advance(it, t_end * k / nout, x, NULL);
-        pendulum(a, &th, &w, t_end / nout);
+        num_rk4_pendulum(a, &th, &w, t_end / nout, 1e-5);
         *err = fmax(*err, tip_error(N, x, th));
     }
     if (rc != EOM_OK)
