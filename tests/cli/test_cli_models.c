@@ -1194,6 +1194,57 @@ static void case_health(void)
     result_free(&r);
 }
 
+/* Four A02 four-bar loops in natural coordinates (the model of
+ * tests/eom_constraints/models/a02-natural.eom with N = 4) through the
+ * four flat positions of 3.3 s: bdf's error test fails at them, so it
+ * hands those stretches to erk, and adams hands them to bdf, which hands
+ * them on; the summary says so, and the motion stays on its branch. */
+static void case_singular_erk(void)
+{
+    char file[300], out[300];
+    const char *args[] = {file, "--t-end", "3.3", "--sample", "0.01",
+                          "--rtol", "1e-8", "--atol", "1e-8",
+                          "--integrator", "bdf", "--out", out, NULL};
+    const char *const method[] = {"bdf", "adams"};
+    FILE *f;
+    result r;
+    int k;
+    scratch(file, sizeof file, "a02-natural.eom");
+    scratch(out, sizeof out, "a02-natural.csv");
+    f = fopen(file, "w");
+    CHECK(f != NULL);
+    if (!f)
+        return;
+    fputs("setting N = 4 in 1..100\n"
+          "param m = 1 [kg]\nparam l = 1 [m]\nparam g = 9.81 [m/s^2]\n"
+          "coord x[i in 0..N] = i*l [m] rate 1\n"
+          "coord y[i in 0..N] = l [m]\n"
+          "T = m/6*sum(i in 0..N, x_dot[i]^2 + y_dot[i]^2) +\n"
+          "    m/6*sum(i in 1..N, x_dot[i-1]^2 + x_dot[i-1]*x_dot[i] +\n"
+          "        x_dot[i]^2 + y_dot[i-1]^2 + y_dot[i-1]*y_dot[i] +\n"
+          "        y_dot[i]^2)\n"
+          "V = m*g*(sum(i in 0..N, y[i]/2) + sum(i in 1..N, "
+          "(y[i-1] + y[i])/2))\n"
+          "constraint crank[i in 0..N] = (x[i] - i*l)^2 + y[i]^2 - l^2\n"
+          "constraint coupler[i in 1..N] = (x[i] - x[i-1])^2 + "
+          "(y[i] - y[i-1])^2 - l^2\n", f);
+    fclose(f);
+    for (k = 0; k < 2; k++) {
+        char said[128];
+        args[10] = method[k];
+        run(&r, args);
+        CHECK_INT(r.status, 0);
+        CHECK(number_after(r.err, "singular positions passed ") == 4.0);
+        CHECK_HAS(r.err, "branch switches 0");
+        CHECK(number_after(r.err, "singular stretches handed to erk ") >=
+              1.0);
+        snprintf(said, sizeof said, "(%s could not pass them%s;", method[k],
+                 k == 0 ? "" : ", nor bdf");
+        CHECK_HAS(r.err, said);
+        result_free(&r);
+    }
+}
+
 /* A tolerance beyond the floor of bdf's error test is named in the
  * summary with what the run keeps instead, (3e-16 / 0.02)^(5/6) = 3.0e-12
  * (docs/integrators.md); a reachable one is not. */
@@ -1325,6 +1376,7 @@ static const struct {
     {"model_health", case_health},
     {"model_mass_route", case_mass_route},
     {"model_tolerance", case_tolerance},
+    {"model_singular_erk", case_singular_erk},
     {"model_list", case_list},   {"model_describe", case_describe},
     {"model_csv", case_csv},     {"model_error", case_error},
     {"model_modes", case_modes}, {"model_plots", case_plots},
