@@ -1,6 +1,8 @@
 /* support_tape.c - run user functions on the evaluators and collect their
- * outputs (see support_tape.h). */
+ * outputs, record q/qd tapes, compare doubles bit for bit (see
+ * support_tape.h). */
 #include <stdlib.h>
+#include <string.h>
 
 #include "support_tape.h"
 
@@ -57,4 +59,27 @@ int st_tuple(tp_rec *tu, const double *x, tp_func f, void *user, double *y,
     }
     free(packed);
     return st;
+}
+
+tp_tape *st_record_qqd(tp_func f, int N, void *user)
+{
+    unsigned char group[128];
+    tp_rec *r = NULL;
+    tp_tape *t = NULL;
+    int i;
+    if (N < 0 || N > 64)
+        return NULL;
+    for (i = 0; i < 2 * N; i++)
+        group[i] = (unsigned char)(i < N ? 0 : 1);
+    if (tp_recorder_new(&r, 2 * N, group, NULL) != TP_OK ||
+        tp_rec_run(r, NULL, f, user) != TP_OK ||
+        tp_recorder_finish(r, &t) != TP_OK)
+        t = NULL;
+    tp_rec_free(&r);
+    return t;
+}
+
+int st_same_bits(double a, double b)
+{
+    return memcmp(&a, &b, sizeof a) == 0 || (a == 0.0 && b == 0.0);
 }

@@ -22,4 +22,14 @@ int st_tuple(tp_rec *tu, const double *x, tp_func f, void *user, double *y,
  * symmetric n x n matrix. */
 void st_unpack(int n, const double *packed, double *H);
 
+/* A tape of 2N independents from f, the first N in group 0 (the
+ * coordinates q), the last N in group 1 (the rates qd), the grouping
+ * tp_lagrange reads; NULL if recording failed. N <= 64. */
+tp_tape *st_record_qqd(tp_func f, int N, void *user);
+
+/* a and b equal bit for bit, but for the sign of a zero: generated code
+ * leaves out terms whose row is structurally zero, which can turn the
+ * interpreter's -0 into +0 (libtape/src/codegen_lagrange.c). */
+int st_same_bits(double a, double b);
+
 #endif

@@ -33,6 +33,7 @@
 #include "eom/chain.h"
 #include "eom/eom.h"
 #include "support_rng.h"
+#include "support_tape.h"
 #include "tape/tape.h"
 
 #define MAXL 50
@@ -78,39 +79,15 @@ static int rec_chain(tp_rec *r, void *user)
     return 0;
 }
 
-/* A tape of n = 2N independents (q: group 0, qd: group 1) from f. */
-static tp_tape *record(tp_func f, int N, void *user)
-{
-    unsigned char group[2 * MAXL];
-    tp_rec *r = NULL;
-    tp_tape *t = NULL;
-    int i;
-    for (i = 0; i < 2 * N; i++)
-        group[i] = (unsigned char)(i < N ? 0 : 1);
-    if (tp_recorder_new(&r, 2 * N, group, NULL) != TP_OK ||
-        tp_rec_run(r, NULL, f, user) != TP_OK ||
-        tp_recorder_finish(r, &t) != TP_OK)
-        t = NULL;
-    tp_rec_free(&r);
-    return t;
-}
-
-/* a and b equal bit for bit (n doubles), but for the sign of a zero: the
- * generated code leaves out terms whose row is structurally zero, which
- * can turn a -0 of the interpreter's into a +0 (codegen_lagrange.c; the
- * straight-line code does the same). The first difference named. */
-static int same_bits(double a, double b)
-{
-    return memcmp(&a, &b, sizeof a) == 0 || (a == 0.0 && b == 0.0);
-}
-
+/* a and b equal bit for bit but for a zero's sign (st_same_bits), n
+ * doubles; the first difference named. */
 static void bitwise(const double *a, const double *b, int n, const char *what,
                     int N)
 {
     int k;
     for (k = 0; k < n; k++)
-        if (!same_bits(a[k], b[k])) {
-            CHECK(same_bits(a[k], b[k]));
+        if (!st_same_bits(a[k], b[k])) {
+            CHECK(st_same_bits(a[k], b[k]));
             fprintf(stderr, "  %s, N = %d, entry %d: %.17g against %.17g\n",
                     what, N, k, a[k], b[k]);
             return;
@@ -219,7 +196,7 @@ static void chains(const char *dir)
     size_t k;
     for (k = 0; k < sizeof sizes / sizeof sizes[0]; k++) {
         int N = sizes[k], loops = 0;
-        tp_tape *t = record(rec_chain, N, &N);
+        tp_tape *t = st_record_qqd(rec_chain, N, &N);
         CHECK(t != NULL);
         if (!t)
             continue;
@@ -235,7 +212,7 @@ static void chains(const char *dir)
 /* The source bytes of the chain's Lagrange block alone. */
 static size_t lagrange_source(int N, int straight, const char *dir)
 {
-    tp_tape *t = record(rec_chain, N, &N);
+    tp_tape *t = st_record_qqd(rec_chain, N, &N);
     tp_compile_opts o;
     tp_compile_info info;
     tp_compiled *c = NULL;
@@ -309,7 +286,7 @@ static int rec_random(tp_rec *r, void *user)
 static void no_repetition(const char *dir)
 {
     int N = NR, loops = 0;
-    tp_tape *t = record(rec_random, N, NULL);
+    tp_tape *t = st_record_qqd(rec_random, N, NULL);
     CHECK(t != NULL);
     if (t)
         every_sweep(t, N, 2, 10, dir, "random tape", &loops);

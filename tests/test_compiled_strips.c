@@ -31,6 +31,7 @@
 
 #include "check.h"
 #include "support_rng.h"
+#include "support_tape.h"
 #include "tape/tape.h"
 
 #define MAXL 50
@@ -104,36 +105,15 @@ static int rec_random(tp_rec *r, void *user)
     return 0;
 }
 
-static tp_tape *record(tp_func f, int N, void *user)
-{
-    unsigned char group[2 * MAXL];
-    tp_rec *r = NULL;
-    tp_tape *t = NULL;
-    int i;
-    for (i = 0; i < 2 * N; i++)
-        group[i] = (unsigned char)(i < N ? 0 : 1);
-    if (tp_recorder_new(&r, 2 * N, group, NULL) != TP_OK ||
-        tp_rec_run(r, NULL, f, user) != TP_OK ||
-        tp_recorder_finish(r, &t) != TP_OK)
-        t = NULL;
-    tp_rec_free(&r);
-    return t;
-}
-
-/* Equal bit for bit, but for the sign of a zero (the generated code
- * leaves out terms whose row is structurally zero). */
-static int same_bits(double a, double b)
-{
-    return memcmp(&a, &b, sizeof a) == 0 || (a == 0.0 && b == 0.0);
-}
-
+/* a and b equal bit for bit but for a zero's sign (st_same_bits), n
+ * doubles; the first difference named. */
 static void bitwise(const double *a, const double *b, int n, const char *what,
                     int N, int dirs)
 {
     int k;
     for (k = 0; k < n; k++)
-        if (!same_bits(a[k], b[k])) {
-            CHECK(same_bits(a[k], b[k]));
+        if (!st_same_bits(a[k], b[k])) {
+            CHECK(st_same_bits(a[k], b[k]));
             fprintf(stderr,
                     "  %s, N = %d, max_dirs %d, entry %d: %.17g against "
                     "%.17g\n",
@@ -233,7 +213,7 @@ static void chains(const char *dir)
 {
     int N;
     for (N = 1; N <= MAXL; N = N < 17 ? N + 1 : MAXL + (N == MAXL)) {
-        tp_tape *t = record(rec_chain, N, &N);
+        tp_tape *t = st_record_qqd(rec_chain, N, &N);
         CHECK(t != NULL);
         if (!t)
             continue;
@@ -247,7 +227,7 @@ static void chains(const char *dir)
 static void random_tape(const char *dir)
 {
     int N = NR;
-    tp_tape *t = record(rec_random, N, NULL);
+    tp_tape *t = st_record_qqd(rec_random, N, NULL);
     CHECK(t != NULL);
     if (t)
         against_interpreter(t, N, 2, N, 6, dir, "random tape");
