@@ -146,19 +146,15 @@ void tp__fwd1(tp_ws *ws, const double *x, int p, const double *S, size_t lds,
     }
 }
 
-/* tp__fwd1 with unit directions on independents n .. 2n-1, each op's
- * row swept over its range alone (ranges.c): the columns outside it are
- * zero, kept so by tan_ranged (cleared once when it does not hold). */
-TP_VECTOR_CLONES
-void tp__fwd1_ranged(tp_ws *ws, const double *x, int n, unsigned mask,
-                     uint32_t end)
+/* The start of tp__fwd1_ranged, also that of its sweeps in strips of
+ * columns (strips.c): the invariant for mask, the rows cleared when
+ * tan_ranged does not hold, the unit seeds on independents n .. 2n-1 and
+ * the leaves. */
+void tp__fwd1_ranged_seed(tp_ws *ws, const double *x, int n, unsigned mask)
 {
     const tp_tape *T = ws->t;
-    const uint8_t *opc = T->opc, *dep = T->dep;
-    const uint32_t *a0 = T->a0, *a1 = T->a1, *fr = ws->frange;
     const size_t P = (size_t)ws->P;
     const bool ranged = ws->tan_ranged;
-    tp_kx k = tp__kx(ws, 0, mask);
     double *tan = ws->tan;
     uint32_t i;
 
@@ -172,6 +168,23 @@ void tp__fwd1_ranged(tp_ws *ws, const double *x, int n, unsigned mask,
     load_leaves(ws, x);
     for (i = 0; i < (uint32_t)n; i++)
         tan[((size_t)n + i) * P + i] = 1.0;
+}
+
+/* tp__fwd1 with unit directions on independents n .. 2n-1, each op's
+ * row swept over its range alone (ranges.c): the columns outside it are
+ * zero, kept so by tan_ranged (cleared once when it does not hold). */
+TP_VECTOR_CLONES
+void tp__fwd1_ranged(tp_ws *ws, const double *x, int n, unsigned mask,
+                     uint32_t end)
+{
+    const tp_tape *T = ws->t;
+    const uint8_t *opc = T->opc, *dep = T->dep;
+    const uint32_t *a0 = T->a0, *a1 = T->a1, *fr = ws->frange;
+    tp_kx k = tp__kx(ws, 0, mask);
+    double *tan = ws->tan;
+    uint32_t i;
+
+    tp__fwd1_ranged_seed(ws, x, n, mask);
     for (i = T->first_active; i < end; i++) {
         k.tan = tan + TP_LANES * (size_t)fr[2 * i];
         k.pr = TP_LANES * (int)(fr[2 * i + 1] - fr[2 * i]);

@@ -95,30 +95,22 @@ void tp__rev2(tp_ws *ws, const double *w, int p, unsigned mask, uint32_t end,
     clear_passive_seeds(ws);
 }
 
-/* tp__rev2 after tp__fwd1_ranged, each op's kernels run over its range
- * alone (ranges.c): its own adjoint-tangent row and its operands' rows
- * are zero outside it. HS is n_indep x n (leading dimension n). */
-TP_VECTOR_CLONES
-void tp__rev2_ranged(tp_ws *ws, const double *w, int n, unsigned mask,
-                     uint32_t end, double *g, double *HS)
+/* The parts of tp__rev2_ranged that its sweeps in strips (strips.c)
+ * share: seeding the outputs, and the end (g and HS out, the
+ * independents' adjoints and rows zeroed, the passive seeds cleared). */
+void tp__rev2_ranged_seed(tp_ws *ws, const double *w)
+{
+    seed_outputs(ws, w);
+}
+
+void tp__rev2_ranged_finish(tp_ws *ws, int n, double *g, double *HS)
 {
     const tp_tape *T = ws->t;
-    const uint8_t *opc = T->opc, *dep = T->dep;
-    const uint32_t *a0 = T->a0, *a1 = T->a1, *rr = ws->rrange;
     const size_t P = (size_t)ws->P;
-    tp_kx k = tp__kx(ws, 0, mask);
-    double *adj = ws->adj, *atan = ws->atan, *tan = ws->tan;
+    double *adj = ws->adj, *atan = ws->atan;
     uint8_t *anz = ws->anz;
     uint32_t i;
 
-    seed_outputs(ws, w);
-    for (i = end; i-- > T->first_active;) {
-        const size_t off = TP_LANES * (size_t)rr[2 * i];
-        k.tan = tan + off;
-        k.atan = atan + off;
-        k.pr = TP_LANES * (int)(rr[2 * i + 1] - rr[2 * i]);
-        tp__k_rev2(&k, i, opc[i], dep[i], a0[i], a1[i]);
-    }
     for (i = 0; i < T->n_indep; i++) {
         if (g)
             g[i] = adj[i];
@@ -130,4 +122,29 @@ void tp__rev2_ranged(tp_ws *ws, const double *w, int n, unsigned mask,
     }
     memset(atan, 0, T->n_indep * P * sizeof(double));
     clear_passive_seeds(ws);
+}
+
+/* tp__rev2 after tp__fwd1_ranged, each op's kernels run over its range
+ * alone (ranges.c): its own adjoint-tangent row and its operands' rows
+ * are zero outside it. HS is n_indep x n (leading dimension n). */
+TP_VECTOR_CLONES
+void tp__rev2_ranged(tp_ws *ws, const double *w, int n, unsigned mask,
+                     uint32_t end, double *g, double *HS)
+{
+    const tp_tape *T = ws->t;
+    const uint8_t *opc = T->opc, *dep = T->dep;
+    const uint32_t *a0 = T->a0, *a1 = T->a1, *rr = ws->rrange;
+    tp_kx k = tp__kx(ws, 0, mask);
+    double *atan = ws->atan, *tan = ws->tan;
+    uint32_t i;
+
+    tp__rev2_ranged_seed(ws, w);
+    for (i = end; i-- > T->first_active;) {
+        const size_t off = TP_LANES * (size_t)rr[2 * i];
+        k.tan = tan + off;
+        k.atan = atan + off;
+        k.pr = TP_LANES * (int)(rr[2 * i + 1] - rr[2 * i]);
+        tp__k_rev2(&k, i, opc[i], dep[i], a0[i], a1[i]);
+    }
+    tp__rev2_ranged_finish(ws, n, g, HS);
 }

@@ -274,6 +274,13 @@ void tp__fwd1_ranged(tp_ws *ws, const double *x, int n, unsigned mask,
                      uint32_t end);
 void tp__rev2_ranged(tp_ws *ws, const double *w, int n, unsigned mask,
                      uint32_t end, double *g, double *HS);
+/* Their parts, for the same sweeps in strips of columns (strips.c):
+ * tp__fwd1_ranged up to its loop over the ops (the seeds and leaves),
+ * tp__rev2_ranged's seeding of the outputs w, and its end (g and HS out
+ * of the independents' adjoints and rows, which it zeroes). */
+void tp__fwd1_ranged_seed(tp_ws *ws, const double *x, int n, unsigned mask);
+void tp__rev2_ranged_seed(tp_ws *ws, const double *w);
+void tp__rev2_ranged_finish(tp_ws *ws, int n, double *g, double *HS);
 /* Recompute the passive prefix of v if a parameter changed (forward.c). */
 void tp__ensure_passive(tp_ws *ws);
 /* The dependency mask of a seed (groups of independents it touches). */
