@@ -13,10 +13,11 @@
 /* Bumped whenever the generated source's interface or the generator's
  * way of writing it changes (the entry points, tp_kx; 4: repeated runs
  * as loops, codegen_loops.c; 5: the Lagrange block's rows in strips in
- * its own scratch, codegen_lagrange.c); part of the cache key (beside the source
- * itself) and checked on load, so that no object a former generator
- * built is loaded. */
-#define TP_CODEGEN_FORMAT 5
+ * its own scratch, codegen_lagrange.c; 6: the strips' short-lived rows in
+ * rings, their seeds and copy-out); part of the cache key (beside the
+ * source itself) and checked on load, so that no object a former
+ * generator built is loaded. */
+#define TP_CODEGEN_FORMAT 6
 
 /* A growing string; after a failed allocation `failed` is set and further
  * appends do nothing. */

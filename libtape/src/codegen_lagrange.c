@@ -656,13 +656,11 @@ static int emit_results(lg *g, int count, bool rows, bool grads, bool loops,
         if (rows && g->strips) {
             if (g->rw[i])
                 tp__sbuf_printf(&q.text,
-                                "memcpy(H + %u + c_, sb_ + (size_t)%u * SW, "
-                                "(size_t)w_ * sizeof(double));\n",
+                                "tpc_out(H + %u + c_, sb_ + (size_t)%u * SW, "
+                                "w_);\n",
                                 i * (uint32_t)count, i);
             else
-                tp__sbuf_printf(&q.text,
-                                "memset(H + %u + c_, 0, (size_t)w_ * "
-                                "sizeof(double));\n",
+                tp__sbuf_printf(&q.text, "tpc_out0(H + %u + c_, w_);\n",
                                 i * (uint32_t)count);
         } else if (rows) {
             if (g->rw[i])
@@ -708,6 +706,20 @@ int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
     else {
         tp__sbuf_printf(b, "#define SW %d\n", g.W);
         emit_strip_macros(b, g.W);
+        /* the copy-out of a strip's w_ columns: a constant size (a few
+         * vector moves, no call) where the strip is full */
+        tp__sbuf_puts(
+            b, "static inline void tpc_out(double *restrict d, "
+               "const double *restrict s, int w)\n"
+               "{\n    if (w == SW)\n"
+               "        memcpy(d, s, SW * sizeof(double));\n"
+               "    else\n"
+               "        memcpy(d, s, (size_t)w * sizeof(double));\n}\n"
+               "static inline void tpc_out0(double *d, int w)\n"
+               "{\n    if (w == SW)\n"
+               "        memset(d, 0, SW * sizeof(double));\n"
+               "    else\n"
+               "        memset(d, 0, (size_t)w * sizeof(double));\n}\n");
     }
     if (any) {
         g.need[o] = 1;
@@ -760,19 +772,24 @@ int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
             "double *restrict su_ = tpc_line(at), *restrict sb_ = "
             "tpc_line(su_ + (size_t)%uu * SW);\n"
             "(void)tan;\n"
+            "memset(su_ + (size_t)%d * SW, 0, (size_t)%d * SW * "
+            "sizeof(double));\n"
             "for (int c_ = 0; c_ < %d; c_ += SW) {\n"
             "const int w_ = %d - c_ < SW ? %d - c_ : SW;\n"
-            "for (int k_ = 0; k_ < %d; k_++) {\n"
-            "    double *r_ = su_ + (size_t)(%d + k_) * SW;\n"
-            "    memset(r_, 0, SW * sizeof(double));\n"
-            "    if (k_ >= c_ && k_ < c_ + SW)\n"
-            "        r_[k_ - c_] = 1.0;\n}\n",
-            T->n_ops, count, count, count, count, first);
+            "for (int k_ = c_; k_ < c_ + w_; k_++)\n"
+            "    su_[(size_t)(%d + k_) * SW + (size_t)(k_ - c_)] = 1.0;\n",
+            T->n_ops, first, count, count, count, count, first);
         emit_calls(b, k[1], k[2], "v, aux, su_, sb_, adj");
         emit_calls(b, k[3], k[4], "v, aux, su_, sb_, adj");
         if (st == TP_OK)
             st = emit_results(&g, count, true, false, loops, b);
-        tp__sbuf_puts(b, "}\n");
+        /* the seed rows zero again for the next strip's */
+        tp__sbuf_printf(
+            b,
+            "for (int k_ = c_; k_ < c_ + w_; k_++)\n"
+            "    su_[(size_t)(%d + k_) * SW + (size_t)(k_ - c_)] = 0.0;\n"
+            "}\n",
+            first);
     }
     if (st != TP_OK) {
         free(g.need);
