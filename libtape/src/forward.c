@@ -18,6 +18,7 @@
 #include <string.h>
 
 #include "sweep.h"
+#include "sweep_one.h"
 
 unsigned tp__seed_mask(const tp_tape *T, int p, const double *S, size_t lds,
                        int first)
@@ -125,11 +126,29 @@ void tp__fwd1(tp_ws *ws, const double *x, int p, const double *S, size_t lds,
             r[(int)i - first] = 1.0;
     }
     /* One switch per op computes the value and, if the op depends on a
-     * seeded group, its tangent row (sweep_ops.h). At one or two vectors
-     * of columns (up to eight coordinates, where most models live) the
-     * width is a constant of its own loop, which drops the per-row loop
-     * control: 4 to 6 % fewer instructions per right-hand side at 2 to 8
-     * links. (The same for tp__rev2 added instructions: 20 % at 5 links.) */
+     * seeded group, its tangent row. At one or two vectors of columns (up
+     * to eight coordinates, where most models live) the width is a
+     * constant of its own loop, which drops the per-row loop control. At
+     * one vector the rows are vector operations (sweep_one.h), and with
+     * at most four directions in the workspace P is a constant too: no
+     * multiplications for the row addresses, and a register freed. */
+#if TP_ONE_VECTOR
+    if (pr == TP_LANES && P == TP_LANES) {
+        tp_kx k1 = kx;
+        k1.pr = TP_LANES;
+        k1.P = TP_LANES;
+        for (i = T->first_active; i < end; i++)
+            tp__one_fwd1(&k1, i, opc[i], dep[i], a0[i], a1[i]);
+        return;
+    }
+    if (pr == TP_LANES) {
+        tp_kx k1 = kx;
+        k1.pr = TP_LANES;
+        for (i = T->first_active; i < end; i++)
+            tp__one_fwd1(&k1, i, opc[i], dep[i], a0[i], a1[i]);
+        return;
+    }
+#endif
     if (pr == TP_LANES) {
         tp_kx k1 = kx;
         k1.pr = TP_LANES;

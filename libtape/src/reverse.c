@@ -23,6 +23,7 @@
 #include <string.h>
 
 #include "sweep.h"
+#include "sweep_one.h"
 
 static void seed_outputs(tp_ws *ws, const double *w)
 {
@@ -81,8 +82,23 @@ void tp__rev2(tp_ws *ws, const double *w, int p, unsigned mask, uint32_t end,
 
     seed_outputs(ws, w);
     /* columns swept: p rounded up to TP_LANES; those past p are zero */
-    for (i = end; i-- > T->first_active;)
-        tp__k_rev2(&kx, i, opc[i], dep[i], a0[i], a1[i]);
+#if TP_ONE_VECTOR
+    /* as tp__fwd1: rows of one vector, P too, or rows of one vector */
+    if (kx.pr == TP_LANES && P == TP_LANES) {
+        tp_kx k1 = kx;
+        k1.pr = TP_LANES;
+        k1.P = TP_LANES;
+        for (i = end; i-- > T->first_active;)
+            tp__one_rev2(&k1, i, opc[i], dep[i], a0[i], a1[i]);
+    } else if (kx.pr == TP_LANES) {
+        tp_kx k1 = kx;
+        k1.pr = TP_LANES;
+        for (i = end; i-- > T->first_active;)
+            tp__one_rev2(&k1, i, opc[i], dep[i], a0[i], a1[i]);
+    } else
+#endif
+        for (i = end; i-- > T->first_active;)
+            tp__k_rev2(&kx, i, opc[i], dep[i], a0[i], a1[i]);
     for (i = 0; i < T->n_indep; i++) {
         if (g)
             g[i] = adj[i];
