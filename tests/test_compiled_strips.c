@@ -21,6 +21,11 @@
  *      (division, square root, exponential, arc tangent), so each strip
  *      computes them again: the same checks, 20 directions in strips of
  *      8, 8 and 4.
+ *   3. The strips' gates (each row run only in the strips its column
+ *      range reaches): a tape whose adjoint-tangent row is first written
+ *      by an op reaching fewer strips than a later writer, and rows of
+ *      single rates, at 17 and 20 rates (every chain above runs gated
+ *      too: its ranges are triangles).
  */
 #define _POSIX_C_SOURCE 200809L
 
@@ -105,6 +110,35 @@ static int rec_random(tp_rec *r, void *user)
     return 0;
 }
 
+/* The strips' gates (rows run only in the strips their column ranges
+ * reach, from the last strip to the first): an adjoint-tangent row w
+ * whose first writer (the last op reading w, y2 = w^2, rate 0 only)
+ * reaches fewer strips than an earlier reader (y1 = w a, a of the last
+ * rate): where y1 runs, y2 must run too, or y1's row would be added to
+ * the previous strip's. Besides, rows of single rates (a ragged set of
+ * ranges) and a sum over all rates. */
+static int rec_gates(tp_rec *r, void *user)
+{
+    const int N = *(const int *)user;
+    const tp_val q0 = tp_indep(r, 0), r0 = tp_indep(r, N),
+                 rl = tp_indep(r, 2 * N - 1);
+    const tp_val w = tp_add(r, tp_sin(r, q0), r0);
+    const tp_val a = tp_mul(r, rl, rl);
+    tp_val L = tp_mul(r, w, a), sum = tp_const(r, 0.0);
+    int j;
+    L = tp_add(r, L, tp_sqr(r, w));
+    for (j = 0; j < N; j++) {
+        const tp_val x = tp_mul(r, tp_indep(r, N + j), tp_cos(r, tp_indep(r, j)));
+        sum = tp_add(r, sum, x);
+        if (j % 3 == 1)
+            L = tp_add(r, L, tp_sqr(r, x));
+    }
+    L = tp_add(r, L, tp_sqr(r, sum));
+    tp_output(r, "L", L);
+    tp_output(r, "y", w);
+    return 0;
+}
+
 /* a and b equal bit for bit but for a zero's sign (st_same_bits), n
  * doubles; the first difference named. */
 static void bitwise(const double *a, const double *b, int n, const char *what,
@@ -136,7 +170,7 @@ static int has_strips(const tp_compile_info *info)
     if (!(f = fopen(path, "rb")))
         return -1;
     while (!found && fgets(line, sizeof line, f))
-        found = strstr(line, "c_ += SW") != NULL;
+        found = strstr(line, "const int c_ = s_ * SW;") != NULL;
     fclose(f);
     return found;
 }
@@ -234,6 +268,18 @@ static void random_tape(const char *dir)
     tp_tape_free(&t);
 }
 
+static void gates_tape(const char *dir)
+{
+    int N;
+    for (N = 17; N <= 20; N += 3) {
+        tp_tape *t = st_record_qqd(rec_gates, N, &N);
+        CHECK(t != NULL);
+        if (t)
+            against_interpreter(t, N, 2, N, 3, dir, "gates tape");
+        tp_tape_free(&t);
+    }
+}
+
 int main(void)
 {
     char dir[] = "/tmp/test-compiled-strips-XXXXXX";
@@ -244,6 +290,7 @@ int main(void)
     }
     chains(dir);
     random_tape(dir);
+    gates_tape(dir);
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
     if (system(cmd) != 0)
         fprintf(stderr, "could not remove %s\n", dir);

@@ -13,11 +13,12 @@
 /* Bumped whenever the generated source's interface or the generator's
  * way of writing it changes (the entry points, tp_kx; 4: repeated runs
  * as loops, codegen_loops.c; 5: the Lagrange block's rows in strips in
- * its own scratch, codegen_lagrange.c; 6: the strips' short-lived rows in
- * rings, their seeds and copy-out); part of the cache key (beside the
- * source itself) and checked on load, so that no object a former
- * generator built is loaded. */
-#define TP_CODEGEN_FORMAT 6
+ * its own scratch, codegen_lagrange.c; 6: the strips' seeds and
+ * copy-out; 7: the strips gated by the rows' column ranges, run from the
+ * last to the first); part of the cache key (beside the source itself)
+ * and checked on load, so that no object a former generator built is
+ * loaded. */
+#define TP_CODEGEN_FORMAT 7
 
 /* A growing string; after a failed allocation `failed` is set and further
  * appends do nothing. */
@@ -94,9 +95,19 @@ typedef struct tp_seq {
     unsigned char *fixed; /* statement k stays out of loops (a label) */
     uint32_t n, cap;      /* statements, room */
     bool failed;          /* out of memory */
+    /* Gated statements (the Lagrange block's strips, nstrips > 0): a
+     * statement runs in strips s_ < hi[k] only (next_hi: the bound of
+     * the statement being written, taken by tp__seq_close), and a loop
+     * member runs where any of its statements must; pairs (a, b): where
+     * statement b runs, a must run too (tp__seq_pair). */
+    uint32_t nstrips, next_hi;
+    uint32_t *hi;
+    uint32_t *pairs;
+    size_t npairs, pcap;
 } tp_seq;
 void tp__seq_close(tp_seq *s, bool fixed);
 void tp__seq_free(tp_seq *s);
+void tp__seq_pair(tp_seq *s, uint32_t a, uint32_t b);
 /* Writes chunk c's opening for statements lo .. hi - 1 (tp__chunk_begin
  * and what the chunk declares). */
 typedef void (*tp_seq_open)(void *ctx, tp_sbuf *b, unsigned c, uint32_t lo,

@@ -59,6 +59,14 @@ typedef struct lg {
     tp_sbuf *br;         /* where row statements go (b, or the strips') */
     int W;               /* a row's width: P, or the strip's */
     bool strips;         /* rows in strips of W directions (U_, B_) */
+    /* Strips gated by the rows' column ranges (lagrange_gates): op i's
+     * forward row statement runs in strips below fh[i], its reverse one
+     * below rh[i]; setter[w]: the statement of rs that assigns w's
+     * adjoint-tangent row (later writers add to it, so run only where it
+     * does). fh NULL: no gates. */
+    uint32_t *fh, *rh, *setter, *first_w; /* first_w: its op */
+    tp_seq *rs;
+    uint32_t cur; /* the op being written */
 } lg;
 
 /* One term of a row update: coef * (row src). */
@@ -101,6 +109,14 @@ static void emit_row(lg *g, char kind, uint32_t d, bool set, int nt,
                                   : t[j].src[0],
                         t[j].src + 1);
     tp__sbuf_printf(b, "double *d_ = %c_(%u);\n", kind, d);
+    if (g->strips && g->fh && kind == 'B') {
+        if (set) {
+            g->setter[d] = g->rs->n;
+            g->first_w[d] = g->cur;
+        }
+        else
+            tp__seq_pair(g->rs, g->setter[d], g->rs->n);
+    }
     if (g->strips) {
         tp__sbuf_printf(b, "TPC_R%d%s(d_", nt, set ? "s" : "a");
         for (j = 0; j < nt; j++)
@@ -525,6 +541,10 @@ static void phase_op(lg *g, tp_seq *q, tp_seq *r, bool reverse, uint32_t i)
     const size_t l0 = q->text.len, r0 = r ? r->text.len : 0;
     g->b = &q->text;
     g->br = r ? &r->text : g->b;
+    g->rs = r;
+    g->cur = i;
+    if (r && g->fh)
+        r->next_hi = reverse ? g->rh[i] : g->fh[i];
     if (reverse)
         emit_reverse(g, i);
     else
@@ -588,6 +608,63 @@ static int lg_init(lg *g, const tp_tape *T, int first, int count, int P,
     return TP_OK;
 }
 
+/* Gates for the strips from the rows' column ranges (ranges.c, as the
+ * interpreter's ranged sweeps use them): a tangent row of op i can be
+ * non-zero only in its forward range's columns, an adjoint-tangent row
+ * and what op i's reverse statement adds to its operands' only in its
+ * reverse range's. A chain's link k has rates 0 .. k in its rows, so
+ * most ranges start at column 0: each statement runs in the strips
+ * below the end of its range only (fh, rh: that end in strips), and the
+ * strips run from the last to the first. Then a row a statement reads
+ * was either written in this strip or not yet in this call (its
+ * statement runs in no strip at or above this one), and the block
+ * clears every row once per call, so a row not written reads as the
+ * zeros the full sweep computes there; a statement running outside its
+ * own range (a loop member runs where any of its statements must)
+ * computes those zeros too. An adjoint-tangent row is assigned by its
+ * first writer and added to by the others: codegen_loops.c runs the
+ * first wherever another runs (the pairs recorded in emit_row). Each
+ * column a statement computes is computed as in the full sweep, so the
+ * results are unchanged (a zero's sign aside, as the interpreter's
+ * ranged sweeps).
+ *
+ * Only for the block ranges.c works out (unit directions on the second
+ * half of the independents) and strips of whole vectors;
+ * AUTOEOM_CODEGEN=noranges leaves the gates out (for benchmarks comparing
+ * the two). TP_OK (with or without gates) or TP_ERR_NOMEM. */
+static int lagrange_gates(lg *g, int out, uint32_t o, int first, int count)
+{
+    const tp_tape *T = g->T;
+    const uint32_t vps = (uint32_t)g->W / TP_LANES, n = T->n_ops;
+    const uint32_t lv = T->n_indep + T->n_param;
+    const char *cg = getenv("AUTOEOM_CODEGEN");
+    tp_ws *ws = NULL;
+    uint32_t i;
+    if ((cg && strcmp(cg, "noranges") == 0) || first != count ||
+        (uint32_t)first * 2 > T->n_indep || g->W % TP_LANES != 0)
+        return TP_OK;
+    if (tp_ws_new(&ws, T, 1, NULL) != TP_OK)
+        return TP_ERR_NOMEM;
+    g->fh = malloc(4 * (size_t)n * sizeof *g->fh);
+    if (!g->fh) {
+        tp_ws_free(&ws);
+        return TP_ERR_NOMEM;
+    }
+    g->rh = g->fh + n;
+    g->setter = g->rh + n;
+    g->first_w = g->setter + n;
+    tp__lagrange_ranges(ws, out, count, o + 1 > lv ? o + 1 : lv);
+    for (i = 0; i < n; i++) {
+        const uint32_t *f = ws->frange + 2 * (size_t)i,
+                       *r = ws->rrange + 2 * (size_t)i;
+        g->fh[i] = f[1] > f[0] ? (f[1] + vps - 1) / vps : 0;
+        g->rh[i] = r[1] > r[0] ? (r[1] + vps - 1) / vps : 0;
+        g->setter[i] = g->first_w[i] = 0;
+    }
+    tp_ws_free(&ws);
+    return TP_OK;
+}
+
 /* Unit seeds on the rows of independents first .. first + count - 1 (a
  * loop: written out, they were a tenth of the source). */
 static void emit_seeds(tp_sbuf *b, int first, int count, int P)
@@ -613,10 +690,10 @@ void tp__emit_blocks_common(int P, tp_sbuf *b)
                   "#define B_(s) (at + (size_t)(s) * SW)\n"
                   "#define LG_ARGS double *restrict v, double *restrict aux, "
                   "double *restrict tan, double *restrict at, "
-                  "double *restrict adj\n"
+                  "double *restrict adj, int s_\n"
                   "#define LG_BEGIN tp_kx y; tp_partials d; "
                   "memset(&y, 0, sizeof y); y.K = K; y.v = v; y.aux = aux; "
-                  "(void)d; (void)tan; (void)at; (void)adj;\n");
+                  "(void)d; (void)tan; (void)at; (void)adj; (void)s_;\n");
 }
 
 /* The strip's width for rows P wide, 0 for no strips. A strip's rows
@@ -680,6 +757,47 @@ static int emit_results(lg *g, int count, bool rows, bool grads, bool loops,
     return st;
 }
 
+/* Gated strips: the rows a strip may read without having written them
+ * zero at the start of a call (lagrange_gates): the tangent rows of ops
+ * whose forward statement does not run in every strip, and the
+ * adjoint-tangent rows whose first writer does not (the seeds' rows are
+ * cleared apart). A statement each, repeated runs as loops. */
+static int emit_zeros(lg *g, uint32_t ns, bool loops, tp_sbuf *b)
+{
+    const tp_tape *T = g->T;
+    tp_seq q;
+    uint32_t i, *clo = NULL;
+    unsigned nc = 0;
+    int st;
+    int half;
+    memset(&q, 0, sizeof q);
+    for (half = 0; half < 2; half++) {
+        uint32_t a = 0, len = 0;
+        for (i = 0; i <= T->n_ops; i++) {
+            const bool z =
+                i < T->n_ops &&
+                (half == 0 ? i >= T->first_active && g->need[i] &&
+                                 tn(g, i) && g->fh[i] < ns
+                           : g->rw[i] && g->rh[g->first_w[i]] < ns);
+            if (z && len++ == 0)
+                a = i;
+            if (z || len == 0)
+                continue;
+            /* a run of consecutive rows: one memset */
+            tp__sbuf_printf(&q.text,
+                            "memset(%s + (size_t)%uu * SW, 0, (size_t)%uu * "
+                            "SW * sizeof(double));\n",
+                            half ? "sb_" : "su_", a, len);
+            tp__seq_close(&q, false);
+            len = 0;
+        }
+    }
+    st = tp__seq_emit(&q, b, loops, NULL, NULL, &clo, &nc);
+    free(clo);
+    tp__seq_free(&q);
+    return st;
+}
+
 static void emit_calls(tp_sbuf *b, int k0, int k1, const char *args)
 {
     int k;
@@ -725,11 +843,18 @@ int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
         g.need[o] = 1;
         tp__cone(T, o, g.need);
     }
+    if (g.strips && any &&
+        (st = lagrange_gates(&g, out, o, first, count)) != TP_OK) {
+        free(g.need);
+        return st;
+    }
     /* forward over the cone, then reverse from the output; in strips,
      * the values and adjoints (chunks k0 .. k1, k2 .. k3) apart from
      * the rows (k1 .. k2, k3 .. k4), which run once per strip */
     memset(&q, 0, sizeof q);
     memset(&r, 0, sizeof r);
+    if (g.fh)
+        r.nstrips = (uint32_t)((count + g.W - 1) / g.W);
     for (i = T->first_active; any && i <= o; i++)
         if (g.need[i])
             phase_op(&g, &q, g.strips ? &r : NULL, false, i);
@@ -738,6 +863,8 @@ int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
     if (st == TP_OK && g.strips)
         st = phase_end(&g, &r, b, loops, &nchunk);
     k[2] = nchunk;
+    if (g.fh) /* phase_end cleared r */
+        r.nstrips = (uint32_t)((count + g.W - 1) / g.W);
     g.aw[o] = 1; /* seeded by the entry function */
     for (i = o + 1; st == TP_OK && any && i-- > T->first_active;)
         if (g.need[i] && g.aw[i])
@@ -752,35 +879,46 @@ int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
     tp__seq_free(&r);
     if (st != TP_OK) {
         free(g.need);
+        free(g.fh);
         return st;
     }
     tp__sbuf_puts(b, "#if TPC_PART == 0\n"
-                     "TPC_EXPORT void tpc_lagrange(LG_ARGS, double *restrict "
-                     "gr, double *restrict H)\n{\n");
+                     "TPC_EXPORT void tpc_lagrange(double *restrict v, "
+                     "double *restrict aux, double *restrict tan, "
+                     "double *restrict at, double *restrict adj, "
+                     "double *restrict gr, double *restrict H)\n{\n");
     if (!g.strips) {
         emit_seeds(b, first, count, P);
         tp__sbuf_printf(b, "adj[%u] = 1.0;\n", o);
-        emit_calls(b, 0, k[4], "v, aux, tan, at, adj");
+        emit_calls(b, 0, k[4], "v, aux, tan, at, adj, 0");
         st = emit_results(&g, count, true, true, loops, b);
     } else {
         tp__sbuf_printf(b, "adj[%u] = 1.0;\n", o);
-        emit_calls(b, k[0], k[1], "v, aux, tan, at, adj");
-        emit_calls(b, k[2], k[3], "v, aux, tan, at, adj");
+        emit_calls(b, k[0], k[1], "v, aux, tan, at, adj, 0");
+        emit_calls(b, k[2], k[3], "v, aux, tan, at, adj, 0");
         st = emit_results(&g, count, false, true, loops, b);
+        tp__sbuf_printf(b,
+                        "double *restrict su_ = tpc_line(at), *restrict sb_ "
+                        "= tpc_line(su_ + (size_t)%uu * SW);\n"
+                        "(void)tan;\n",
+                        T->n_ops);
+        tp__sbuf_printf(b,
+                        "memset(su_ + (size_t)%d * SW, 0, (size_t)%d * "
+                        "SW * sizeof(double));\n",
+                        first, count);
+        if (g.fh && st == TP_OK) /* gated: rows zero until written */
+            st = emit_zeros(&g, (uint32_t)((count + g.W - 1) / g.W), loops,
+                            b);
         tp__sbuf_printf(
             b,
-            "double *restrict su_ = tpc_line(at), *restrict sb_ = "
-            "tpc_line(su_ + (size_t)%uu * SW);\n"
-            "(void)tan;\n"
-            "memset(su_ + (size_t)%d * SW, 0, (size_t)%d * SW * "
-            "sizeof(double));\n"
-            "for (int c_ = 0; c_ < %d; c_ += SW) {\n"
+            "for (int s_ = %d; s_-- > 0;) {\n"
+            "const int c_ = s_ * SW;\n"
             "const int w_ = %d - c_ < SW ? %d - c_ : SW;\n"
             "for (int k_ = c_; k_ < c_ + w_; k_++)\n"
             "    su_[(size_t)(%d + k_) * SW + (size_t)(k_ - c_)] = 1.0;\n",
-            T->n_ops, first, count, count, count, count, first);
-        emit_calls(b, k[1], k[2], "v, aux, su_, sb_, adj");
-        emit_calls(b, k[3], k[4], "v, aux, su_, sb_, adj");
+            (count + g.W - 1) / g.W, count, count, first);
+        emit_calls(b, k[1], k[2], "v, aux, su_, sb_, adj, s_");
+        emit_calls(b, k[3], k[4], "v, aux, su_, sb_, adj, s_");
         if (st == TP_OK)
             st = emit_results(&g, count, true, false, loops, b);
         /* the seed rows zero again for the next strip's */
@@ -793,6 +931,7 @@ int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
     }
     if (st != TP_OK) {
         free(g.need);
+        free(g.fh);
         return st;
     }
     tp__sbuf_printf(b,
@@ -801,6 +940,7 @@ int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
                     "{%d, %d, %d, %d};\n#endif\n",
                     out, first, count, P);
     free(g.need);
+        free(g.fh);
     return b->failed ? TP_ERR_NOMEM : TP_OK;
 }
 
@@ -822,6 +962,7 @@ int tp__emit_jacobian(const tp_tape *T, int P, bool loops, tp_sbuf *b)
             phase_op(&g, &q, NULL, false, i);
     if ((st = phase_end(&g, &q, b, loops, &nchunk)) != TP_OK) {
         free(g.need);
+        free(g.fh);
         return st;
     }
     tp__sbuf_puts(b, "#if TPC_PART == 0\n"
@@ -829,12 +970,13 @@ int tp__emit_jacobian(const tp_tape *T, int P, bool loops, tp_sbuf *b)
                      "double *restrict aux, double *restrict tan)\n{\n");
     emit_seeds(b, 0, count, P);
     for (k = 0; k < nchunk; k++)
-        tp__sbuf_printf(b, "jc_%d(v, aux, tan, NULL, NULL);\n", k);
+        tp__sbuf_printf(b, "jc_%d(v, aux, tan, NULL, NULL, 0);\n", k);
     tp__sbuf_printf(b,
                     "(void)v;\n(void)aux;\n}\n"
                     "TPC_EXPORT const int tpc_jacobian_shape[2] = "
                     "{%d, %d};\n#endif\n",
                     count, P);
     free(g.need);
+        free(g.fh);
     return b->failed ? TP_ERR_NOMEM : TP_OK;
 }

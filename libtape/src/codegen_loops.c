@@ -85,11 +85,40 @@ void tp__seq_close(tp_seq *s, bool fixed)
             return;
         }
         s->fixed = f;
+        if (s->nstrips) {
+            uint32_t *h = realloc(s->hi, cap * sizeof *h);
+            if (!h) {
+                s->failed = true;
+                return;
+            }
+            s->hi = h;
+        }
         s->cap = cap;
     }
     s->end[s->n] = s->text.len;
     s->fixed[s->n] = fixed;
+    if (s->nstrips)
+        s->hi[s->n] = s->next_hi;
     s->n++;
+}
+
+void tp__seq_pair(tp_seq *s, uint32_t a, uint32_t b)
+{
+    if (s->failed)
+        return;
+    if (s->npairs == s->pcap) {
+        const size_t cap = s->pcap ? 2 * s->pcap : 256;
+        uint32_t *p = realloc(s->pairs, 2 * cap * sizeof *p);
+        if (!p) {
+            s->failed = true;
+            return;
+        }
+        s->pairs = p;
+        s->pcap = cap;
+    }
+    s->pairs[2 * s->npairs] = a;
+    s->pairs[2 * s->npairs + 1] = b;
+    s->npairs++;
 }
 
 void tp__seq_free(tp_seq *s)
@@ -97,6 +126,8 @@ void tp__seq_free(tp_seq *s)
     tp__sbuf_free(&s->text);
     free(s->end);
     free(s->fixed);
+    free(s->hi);
+    free(s->pairs);
     memset(s, 0, sizeof *s);
 }
 
@@ -435,8 +466,59 @@ static void write_stmt(const parsed *P, tp_sbuf *b, uint32_t k,
     }
 }
 
+/* Gates (tp_seq's hi): each unit (a loop's member, or a statement
+ * outside loops) runs in strips s_ < uh[its first statement], the
+ * largest bound of its statements, raised until every pair holds. */
+static int gates(const tp_seq *s, const item *it, uint32_t ni, uint32_t **out)
+{
+    uint32_t *unit = malloc(((size_t)s->n + 1) * sizeof *unit);
+    uint32_t *uh = calloc((size_t)s->n + 1, sizeof *uh);
+    uint32_t k, m, j;
+    size_t q;
+    bool changed = true;
+    if (!unit || !uh) {
+        free(unit);
+        free(uh);
+        return TP_ERR_NOMEM;
+    }
+    for (k = 0; k < ni; k++)
+        for (m = 0; m < (it[k].reps < 2 ? 1 : it[k].reps); m++)
+            for (j = 0; j < it[k].p; j++) {
+                const uint32_t st = it[k].at + m * it[k].p + j;
+                unit[st] = it[k].reps < 2 ? st : it[k].at + m * it[k].p;
+                if (s->hi[st] > uh[unit[st]])
+                    uh[unit[st]] = s->hi[st];
+            }
+    while (changed) {
+        changed = false;
+        for (q = 0; q < s->npairs; q++) {
+            const uint32_t a = unit[s->pairs[2 * q]],
+                           b = unit[s->pairs[2 * q + 1]];
+            if (uh[a] < uh[b]) {
+                uh[a] = uh[b];
+                changed = true;
+            }
+        }
+    }
+    free(unit);
+    *out = uh;
+    return TP_OK;
+}
+
+/* A statement outside loops, behind its gate (none where it runs in
+ * every strip; nothing where it runs in none). */
+static void write_single(const parsed *P, tp_sbuf *b, const item *it,
+                         const uint32_t *uh)
+{
+    if (uh && uh[it->at] == 0)
+        return;
+    if (uh && uh[it->at] < P->s->nstrips)
+        tp__sbuf_printf(b, "if (s_ < %u)\n", uh[it->at]);
+    write_stmt(P, b, it->at, it, 0, NULL);
+}
+
 static int write_loop(const parsed *P, tp_sbuf *b, const item *it,
-                      unsigned *ntab)
+                      unsigned *ntab, const uint32_t *uh)
 {
     const size_t i0 = P->ioff[it->at], total = P->ioff[it->at + it->p] - i0;
     unsigned *tab_id = calloc(total + 1, sizeof *tab_id);
@@ -475,7 +557,27 @@ static int write_loop(const parsed *P, tp_sbuf *b, const item *it,
             tp__sbuf_printf(b, "%ld%s", P->ints[P->ioff[it->at + k * it->p] + q],
                             k + 1 < it->reps ? ", " : "};\n");
     }
-    tp__sbuf_printf(b, "for (long k_ = 0; k_ < %u; k_++) {\n", it->reps);
+    if (uh) { /* the members' gates: a table where one does not run
+               * in every strip */
+        for (k = 0; k < it->reps; k++)
+            if (uh[it->at + k * it->p] < P->s->nstrips)
+                break;
+        if (k < it->reps) {
+            tp__sbuf_printf(b, "static const unsigned short tb%u_[%u] = {",
+                            (*ntab)++, it->reps);
+            for (k = 0; k < it->reps; k++)
+                tp__sbuf_printf(b, "%u%s", uh[it->at + k * it->p],
+                                k + 1 < it->reps ? ", " : "};\n");
+            tp__sbuf_printf(b,
+                            "for (long k_ = 0; k_ < %u; k_++) {\n"
+                            "if (s_ >= tb%u_[k_])\n    continue;\n",
+                            it->reps, *ntab - 1);
+        } else
+            tp__sbuf_printf(b, "for (long k_ = 0; k_ < %u; k_++) {\n",
+                            it->reps);
+    } else
+        tp__sbuf_printf(b, "for (long k_ = 0; k_ < %u; k_++) {\n",
+                        it->reps);
     for (j = 0; j < it->p; j++)
         write_stmt(P, b, it->at + j, it, j, tab_id);
     tp__sbuf_puts(b, "}\n}\n");
@@ -488,7 +590,7 @@ int tp__seq_emit(const tp_seq *s, tp_sbuf *b, bool loops, tp_seq_open open,
 {
     parsed P;
     item *it = NULL;
-    uint32_t ni = 0, k, *lo = NULL;
+    uint32_t ni = 0, k, *lo = NULL, *uh = NULL;
     unsigned nc = 0, ntab = 0;
     int st;
     *chunk_lo = NULL;
@@ -513,6 +615,8 @@ int tp__seq_emit(const tp_seq *s, tp_sbuf *b, bool loops, tp_seq_open open,
         }
         ni = s->n;
     }
+    if (s->nstrips && (st = gates(s, it, ni, &uh)) != TP_OK)
+        goto done;
     lo = malloc(((size_t)ni + 1) * sizeof *lo);
     if (!lo) {
         st = TP_ERR_NOMEM;
@@ -522,8 +626,8 @@ int tp__seq_emit(const tp_seq *s, tp_sbuf *b, bool loops, tp_seq_open open,
         for (k = 0; k < ni; k++) {
             b->stmts += it[k].p;
             if (it[k].reps < 2)
-                write_stmt(&P, b, it[k].at, &it[k], 0, NULL);
-            else if ((st = write_loop(&P, b, &it[k], &ntab)) != TP_OK)
+                write_single(&P, b, &it[k], uh);
+            else if ((st = write_loop(&P, b, &it[k], &ntab, uh)) != TP_OK)
                 goto done;
         }
         st = b->failed ? TP_ERR_NOMEM : TP_OK;
@@ -542,8 +646,8 @@ int tp__seq_emit(const tp_seq *s, tp_sbuf *b, bool loops, tp_seq_open open,
         for (; k < e; k++) {
             b->stmts += it[k].p;
             if (it[k].reps < 2)
-                write_stmt(&P, b, it[k].at, &it[k], 0, NULL);
-            else if ((st = write_loop(&P, b, &it[k], &ntab)) != TP_OK)
+                write_single(&P, b, &it[k], uh);
+            else if ((st = write_loop(&P, b, &it[k], &ntab, uh)) != TP_OK)
                 goto done;
         }
         tp__sbuf_puts(b, TP_CHUNK_END);
@@ -559,5 +663,6 @@ done:
     free(P.ints);
     free(it);
     free(lo);
+    free(uh);
     return st;
 }
