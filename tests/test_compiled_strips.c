@@ -24,8 +24,8 @@
  *   3. The strips' gates (each row run only in the strips its column
  *      range reaches): a tape whose adjoint-tangent row is first written
  *      by an op reaching fewer strips than a later writer, and rows of
- *      single rates, at 17 and 20 rates (every chain above runs gated
- *      too: its ranges are triangles).
+ *      single rates, at 33 and 40 rates (5 strips; fewer are not
+ *      gated; the 50-link chain above runs gated too).
  */
 #define _POSIX_C_SOURCE 200809L
 
@@ -271,7 +271,7 @@ static void random_tape(const char *dir)
 static void gates_tape(const char *dir)
 {
     int N;
-    for (N = 17; N <= 20; N += 3) {
+    for (N = 33; N <= 40; N += 7) { /* 5 strips of 8: gated */
         tp_tape *t = st_record_qqd(rec_gates, N, &N);
         CHECK(t != NULL);
         if (t)

@@ -629,9 +629,13 @@ static int lg_init(lg *g, const tp_tape *T, int first, int count, int P,
  * ranged sweeps).
  *
  * Only for the block ranges.c works out (unit directions on the second
- * half of the independents) and strips of whole vectors;
+ * half of the independents), strips of whole vectors and MIN_GATED
+ * strips or more;
  * AUTOEOM_CODEGEN=noranges leaves the gates out (for benchmarks comparing
  * the two). TP_OK (with or without gates) or TP_ERR_NOMEM. */
+#define MIN_GATED 4 /* strips; with 3 (10 links, strips of 4) the gates
+                       * were 7 % slower in two runs (bench-rhs) */
+
 static int lagrange_gates(lg *g, int out, uint32_t o, int first, int count)
 {
     const tp_tape *T = g->T;
@@ -641,7 +645,8 @@ static int lagrange_gates(lg *g, int out, uint32_t o, int first, int count)
     tp_ws *ws = NULL;
     uint32_t i;
     if ((cg && strcmp(cg, "noranges") == 0) || first != count ||
-        (uint32_t)first * 2 > T->n_indep || g->W % TP_LANES != 0)
+        (uint32_t)first * 2 > T->n_indep || g->W % TP_LANES != 0 ||
+        (count + g->W - 1) / g->W < MIN_GATED)
         return TP_OK;
     if (tp_ws_new(&ws, T, 1, NULL) != TP_OK)
         return TP_ERR_NOMEM;
