@@ -48,6 +48,16 @@ static inline uint64_t nonfinite_bit(double a)
 #define TP_NONFINITE_OR(acc, a) ((acc) |= nonfinite_bit(a))
 #define TP_ALL_FINITE(acc) (((acc) >> 63) == 0)
 
+/* The AVX2 clone beside the generic code for the loops over n^2 values
+ * (GCC's function multi-versioning, as the sweeps' TP_VECTOR_CLONES in
+ * sweep.h, and not under ThreadSanitizer for the reason given there). */
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) &&    \
+    defined(__linux__) && !defined(__SANITIZE_THREAD__)
+#define TP_DRIVER_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define TP_DRIVER_CLONES
+#endif
+
 /* Accumulates the status of a call: TP_WARN_NONFINITE once any requested
  * result is not finite. */
 static void check(int *st, const double *a, size_t n)
@@ -392,9 +402,14 @@ TP_STORE_BLOCK_OF_SIZE(4)
 TP_STORE_BLOCK_OF_SIZE(5)
 TP_STORE_BLOCK_OF_SIZE(6)
 
-TP_NOINLINE static bool store_block_n(const double *H, int n, int c0, int pc,
-                                      bool timed, const double *qd, double *M,
-                                      double *h)
+/* The block of larger models (n > TP_SIZES_UNROLLED) and of chunks,
+ * with, like the sweeps, an AVX2 clone beside the generic code: 4-wide
+ * vectors for the copy of M with its check and for h's sums, which
+ * vectorize across columns, so that each column's sum keeps its order
+ * (no FMA: both clones round alike). */
+TP_DRIVER_CLONES TP_NOINLINE static bool
+store_block_n(const double *H, int n, int c0, int pc, bool timed,
+              const double *qd, double *M, double *h)
 {
     return store_block_at(H, n, c0, pc, timed, qd, M, h);
 }
@@ -426,59 +441,15 @@ int tp_lagrange(tp_ws *ws, const double *x, int out, double *L, double *dLdq,
  * n directions stay on qd), but the reverse sweep reaches it anyway, so
  * row 2n of the Hessian columns holds d2L/(dt dqd_c) and entry 2n of the
  * gradient dL/dt at no extra cost. */
-int tp_lagrange_t(tp_ws *ws, const double *x, int out, double *L,
-                  double *dLdq, double *dLdt, double *M, double *h)
+/* L, dL/dq and dL/dt into those of L, dLdq and dLdt that are not NULL,
+ * from the last sweeps' values and gradient; the TP_NONFINITE_OR of what
+ * was written. */
+TP_INLINE uint64_t lagrange_values(const tp_ws *ws, int out, int n,
+                                   bool timed, double *L, double *dLdq,
+                                   double *dLdt)
 {
-    int st = begin(ws, x, "tp_lagrange");
-    const tp_tape *T;
-    const double *qd;
-    int n, c0;
-    bool timed, compiled;
-    bool ok = true; /* every result finite */
-    uint64_t bad = 0; /* TP_NONFINITE_OR of L, dLdq, dLdt */
-    if (st)
-        return st;
-    T = ws->t;
-    if ((st = check_out(ws, out, "tp_lagrange")) != TP_OK)
-        return st;
-    n = (int)T->n_indep / 2;
-    timed = T->n_indep % 2 != 0;
-    qd = x + n;
-    /* h is not cleared first: each chunk's store_block sets its entries */
-    /* compiled: the whole block in one call (lcount = n <= max_dirs), no
-     * weights, ends or seed masks to work out */
-    compiled = ws->cc && ws->cc->lagrange && ws->cc->lout == out &&
-               ws->cc->lfirst == n && n <= ws->max_dirs && (M || h);
-    if (compiled) {
-        tp__lagrange_compiled(ws, x, ws->g, ws->hs);
-        ok &= store_block(ws->hs, n, 0, n, timed, qd, M, h);
-    } else {
-        const double *w = unit_weights(ws, out);
-        const uint32_t end = end_of_unit(T, out);
-        if (n == 0 || (!M && !h)) {
-            tp__fwd0(ws, x, end);
-            tp__rev1(ws, w, end, ws->g);
-        }
-        /* more than one vector of rates in one chunk: each row swept over
-         * the columns that can be non-zero in it alone (ranges.c) */
-        const bool ranged = n > TP_LANES && n <= ws->max_dirs && (M || h);
-        if (ranged) {
-            const unsigned mask = tp__unit_seed_mask(T, n, n);
-            if (ws->range_out != out || ws->range_n != n)
-                tp__lagrange_ranges(ws, out, n, end);
-            tp__fwd1_ranged(ws, x, n, mask, end);
-            tp__rev2_ranged(ws, w, n, mask, end, ws->g, ws->hs);
-            ok &= store_block(ws->hs, n, 0, n, timed, qd, M, h);
-        }
-        for (c0 = 0; c0 < n && (M || h) && !ranged; c0 += ws->max_dirs) {
-            const int pc = n - c0 < ws->max_dirs ? n - c0 : ws->max_dirs;
-            const unsigned mask = tp__unit_seed_mask(T, pc, n + c0);
-            tp__fwd1(ws, x, pc, NULL, 0, n + c0, mask, end);
-            tp__rev2(ws, w, pc, mask, end, c0 == 0 ? ws->g : NULL, ws->hs,
-                     (size_t)pc);
-            ok &= store_block(ws->hs, n, c0, pc, timed, qd, M, h);
-        }
-    }
+    const tp_tape *T = ws->t;
+    uint64_t bad = 0;
     if (L) {
         *L = ws->v[T->out_slot[out]];
         TP_NONFINITE_OR(bad, *L);
@@ -494,7 +465,77 @@ int tp_lagrange_t(tp_ws *ws, const double *x, int out, double *L,
         *dLdt = timed ? ws->g[2 * n] : 0.0;
         TP_NONFINITE_OR(bad, *dLdt);
     }
-    if (!ok || !TP_ALL_FINITE(bad))
-        st = TP_WARN_NONFINITE;
-    return st;
+    return bad;
+}
+
+/* tp_lagrange_t by the interpreter's sweeps (its arguments checked, and
+ * n, timed as it found them), out of line: the compiled route's call
+ * then saves only the registers it uses itself. */
+TP_NOINLINE static int lagrange_swept(tp_ws *ws, const double *x, int out,
+                                      int n, bool timed, double *L,
+                                      double *dLdq, double *dLdt, double *M,
+                                      double *h)
+{
+    const tp_tape *T = ws->t;
+    const double *qd = x + n;
+    const double *w = unit_weights(ws, out);
+    const uint32_t end = end_of_unit(T, out);
+    int c0;
+    bool ok = true; /* every result finite */
+    /* h is not cleared first: each chunk's store_block sets its entries */
+    if (n == 0 || (!M && !h)) {
+        tp__fwd0(ws, x, end);
+        tp__rev1(ws, w, end, ws->g);
+    }
+    /* more than one vector of rates in one chunk: each row swept over
+     * the columns that can be non-zero in it alone (ranges.c) */
+    const bool ranged = n > TP_LANES && n <= ws->max_dirs && (M || h);
+    if (ranged) {
+        const unsigned mask = tp__unit_seed_mask(T, n, n);
+        if (ws->range_out != out || ws->range_n != n)
+            tp__lagrange_ranges(ws, out, n, end);
+        tp__fwd1_ranged(ws, x, n, mask, end);
+        tp__rev2_ranged(ws, w, n, mask, end, ws->g, ws->hs);
+        ok &= store_block(ws->hs, n, 0, n, timed, qd, M, h);
+    }
+    for (c0 = 0; c0 < n && (M || h) && !ranged; c0 += ws->max_dirs) {
+        const int pc = n - c0 < ws->max_dirs ? n - c0 : ws->max_dirs;
+        const unsigned mask = tp__unit_seed_mask(T, pc, n + c0);
+        tp__fwd1(ws, x, pc, NULL, 0, n + c0, mask, end);
+        tp__rev2(ws, w, pc, mask, end, c0 == 0 ? ws->g : NULL, ws->hs,
+                 (size_t)pc);
+        ok &= store_block(ws->hs, n, c0, pc, timed, qd, M, h);
+    }
+    if (!ok || !TP_ALL_FINITE(
+                   lagrange_values(ws, out, n, timed, L, dLdq, dLdt)))
+        return TP_WARN_NONFINITE;
+    return TP_OK;
+}
+
+int tp_lagrange_t(tp_ws *ws, const double *x, int out, double *L,
+                  double *dLdq, double *dLdt, double *M, double *h)
+{
+    int st = begin(ws, x, "tp_lagrange");
+    const tp_tape *T;
+    const tp_compiled *cc;
+    int n;
+    bool timed;
+    if (st)
+        return st;
+    T = ws->t;
+    if ((st = check_out(ws, out, "tp_lagrange")) != TP_OK)
+        return st;
+    n = (int)T->n_indep / 2;
+    timed = T->n_indep % 2 != 0;
+    /* compiled: the whole block in one call (lcount = n <= max_dirs), no
+     * weights, ends or seed masks to work out */
+    cc = ws->cc;
+    if (!cc || !cc->lagrange || cc->lout != out || cc->lfirst != n ||
+        n > ws->max_dirs || (!M && !h))
+        return lagrange_swept(ws, x, out, n, timed, L, dLdq, dLdt, M, h);
+    tp__lagrange_compiled(ws, x, ws->g, ws->hs);
+    if (!store_block(ws->hs, n, 0, n, timed, x + n, M, h) ||
+        !TP_ALL_FINITE(lagrange_values(ws, out, n, timed, L, dLdq, dLdt)))
+        return TP_WARN_NONFINITE;
+    return TP_OK;
 }
