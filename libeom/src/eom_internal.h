@@ -241,6 +241,10 @@ struct eom_system {
     struct eom_mass *mass; /* what the L tape says about M and the
                               route it takes (mass_route.h), made on
                               first use */
+    int route;      /* eom__mass_route's answer, kept while route_key is
+                       1 + compiled (0: not known; the analysis not made
+                       yet, or eom_system_set_mass_route since) */
+    int route_key;
     struct eom_kkt *kkt; /* eom_rhs's augmented sparse solve
                             (kkt_sparse.c), made on first use */
     unsigned long param_gen; /* advanced by every eom_set_param: a factor

@@ -37,16 +37,20 @@
 
 #define EOM_MASS_CONST_COMPILED_N 64
 
-int eom__mass_route(eom_system *s)
+/* The rule, kept in s once the analysis exists (not when it could not
+ * be allocated: the next call tries again). */
+int eom__mass_route_find(eom_system *s)
 {
     eom_mass *ms = eom__mass_info(s);
-    if (!ms || !ms->ok || !ms->constant)
+    int route = EOM_MASS_CONSTANT;
+    if (!ms)
         return EOM_MASS_DENSE;
-    if (ms->requested == EOM_MASS_DENSE)
-        return EOM_MASS_DENSE;
-    if (s->compiled && s->n <= EOM_MASS_CONST_COMPILED_N)
-        return EOM_MASS_DENSE;
-    return EOM_MASS_CONSTANT;
+    if (!ms->ok || !ms->constant || ms->requested == EOM_MASS_DENSE ||
+        (s->compiled && s->n <= EOM_MASS_CONST_COMPILED_N))
+        route = EOM_MASS_DENSE;
+    s->route = route;
+    s->route_key = 1 + (int)s->compiled;
+    return route;
 }
 
 int eom_system_mass_route(eom_system *s)
@@ -89,6 +93,7 @@ int eom_system_set_mass_route(eom_system *s, int route)
                                      : "constraints that read the time");
     ms->requested = route;
     ms->held = false;
+    s->route_key = 0; /* eom__mass_route finds it again */
     return EOM_OK;
 }
 
@@ -104,15 +109,6 @@ const char *eom_mass_route_name(int route)
     default:
         return "unknown";
     }
-}
-
-/* The dense route: every block from one tp_lagrange_t. */
-static int block_dense(eom_system *s, double t, const double *x)
-{
-    double L;
-    int st = tp_lagrange_t(s->tL.ws, eom__tape_input(&s->tL, x, t), 0, &L,
-                           s->g, &s->dLdt, s->M, s->h);
-    return eom__tape_status(s, st, "the Lagrangian or a derivative");
 }
 
 /* The constant route's factor: made when not held for these parameters,
@@ -148,7 +144,7 @@ int eom__lagrange_block(eom_system *s, double t, const double *x)
     int st, rc, i, ni;
     eom_mass *ms;
     if (eom__mass_route(s) != EOM_MASS_CONSTANT)
-        return block_dense(s, t, x);
+        return eom__block_dense(s, t, x);
     ms = s->mass;
     xin = eom__tape_input(&s->tL, x, t);
     ni = tp_tape_n_indep(s->tL.tape);

@@ -9,6 +9,7 @@
 #include <stdint.h>
 
 #include "eom/eom.h"
+#include "eom_internal.h"
 
 /* What the L tape says about M, found once per system. */
 typedef struct eom_mass {
@@ -41,8 +42,31 @@ void eom__mass_free(eom_mass **p);
 
 /* The route of s's mass matrix in eom__evaluate (EOM_MASS_DENSE or
  * EOM_MASS_CONSTANT), analysing the L tape on the first call; eom_rhs's
- * may be EOM_MASS_SPARSE (eom_system_mass_route). */
-int eom__mass_route(eom_system *s);
+ * may be EOM_MASS_SPARSE (eom_system_mass_route). Every evaluation asks
+ * for it, twice: after the first call it is the answer kept in s
+ * (eom__mass_route_find keeps it; it depends only on the analysis, made
+ * once, on the route requested, whose setter forgets it, and on whether
+ * s runs compiled tapes, part of the key). */
+int eom__mass_route_find(eom_system *s);
+static inline int eom__mass_route(eom_system *s)
+{
+    if (s->route_key == 1 + (int)s->compiled)
+        return s->route;
+    return eom__mass_route_find(s);
+}
+
+/* The dense route's Lagrange block at (t, x): L (checked), g, dL/dt, M
+ * and h from one tp_lagrange_t (eom__lagrange_block on that route;
+ * inline, so that an evaluation makes the call directly). */
+static inline int eom__block_dense(eom_system *s, double t, const double *x)
+{
+    double L;
+    const int st = tp_lagrange_t(s->tL.ws, eom__tape_input(&s->tL, x, t), 0,
+                                 &L, s->g, &s->dLdt, s->M, s->h);
+    return st == TP_OK ? EOM_OK
+                       : eom__tape_status(s, st,
+                                          "the Lagrangian or a derivative");
+}
 
 /* rhs.c's Lagrange block along the route at (t, x): g = dL/dq, h and
  * dL/dt into s (as tp_lagrange_t gives them; L itself is checked), and

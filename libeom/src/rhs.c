@@ -208,16 +208,14 @@ double eom__mass_min_pivot(const eom_system *s, int *k)
     return best;
 }
 
-int eom__factor_mass(eom_system *s)
+/* eom__factor_mass's verdict on a factor that failed (info > 0: the
+ * leading minor of that order is not positive; < 0: an argument) or,
+ * when it succeeded, on its smallest pivot against the integrator's
+ * floor, out of the common path (no floor, no failure). */
+EOM_NOINLINE static int factor_verdict(eom_system *s, int info)
 {
-    const int n = s->n;
-    const int info = n <= EOM_SMALL_CHOLESKY ? small_potrf(n, s->M, s->Mf)
-                     : n <= EOM_COLUMN_CHOLESKY
-                         ? eom__potrf_columns(n, s->M, s->Mf)
-                         : eom__potrf_blocked(n, s->M, s->Mf);
     int k;
     double r;
-    s->mf_valid = info == 0;
     if (info > 0)
         return eom__fail(s, EOM_ERR_SINGULAR_MASS,
                          "the mass matrix is not positive definite: the "
@@ -227,11 +225,8 @@ int eom__factor_mass(eom_system *s)
                          s->coords[info - 1].name, info);
     if (info < 0)
         return eom__fail(s, EOM_ERR_LINALG, "dpotrf: argument %d", -info);
-    /* nearly singular: the accelerations lose a digit for each decade of
-     * the pivot, and past the integrator's floor they cannot be computed
-     * to its tolerance (the step would shrink towards zero) */
-    if (s->mass_pivot_min > 0.0 &&
-        (r = eom__mass_min_pivot(s, &k)) < s->mass_pivot_min) {
+    r = eom__mass_min_pivot(s, &k);
+    if (r < s->mass_pivot_min) {
         s->mf_valid = false;
         return eom__fail(s, EOM_ERR_SINGULAR_MASS,
                          "the mass matrix is singular to working precision: "
@@ -248,12 +243,39 @@ int eom__factor_mass(eom_system *s)
     return EOM_OK;
 }
 
-int eom__mass_solve(eom_system *s, double *B, int nrhs)
+/* eom__factor_mass, inline for the evaluations of this file. */
+EOM_INLINE_BODY int factor_mass(eom_system *s)
+{
+    const int n = s->n;
+    const int info = n <= EOM_SMALL_CHOLESKY ? small_potrf(n, s->M, s->Mf)
+                     : n <= EOM_COLUMN_CHOLESKY
+                         ? eom__potrf_columns(n, s->M, s->Mf)
+                         : eom__potrf_blocked(n, s->M, s->Mf);
+    s->mf_valid = info == 0;
+    /* nearly singular: the accelerations lose a digit for each decade of
+     * the pivot, and past the integrator's floor they cannot be computed
+     * to its tolerance (the step would shrink towards zero) */
+    if (info != 0 || s->mass_pivot_min > 0.0)
+        return factor_verdict(s, info);
+    return EOM_OK;
+}
+
+int eom__factor_mass(eom_system *s)
+{
+    return factor_mass(s);
+}
+
+EOM_INLINE_BODY void mass_solve(const eom_system *s, double *B, int nrhs)
 {
     if (s->n > EOM_SMALL_CHOLESKY)
         eom__potrs_columns(s->n, nrhs, s->Mf, B);
     else
         small_potrs(s->n, nrhs, s->Mf, B);
+}
+
+int eom__mass_solve(eom_system *s, double *B, int nrhs)
+{
+    mass_solve(s, B, nrhs);
     return EOM_OK;
 }
 
@@ -460,10 +482,14 @@ int eom__nonconservative(eom_system *s, double t, const double *x)
     return forces_at(s, t, x);
 }
 
-int eom__evaluate_free(eom_system *s, double t, const double *x,
-                       int factor)
+/* eom__evaluate_free, inline for eom__evaluate. The route is asked once
+ * (kept in s: mass_route.h), and on the dense one the Lagrange block and
+ * the factor are called directly. */
+EOM_INLINE_BODY int evaluate_free(eom_system *s, double t, const double *x,
+                                  int factor)
 {
     const int n = s->n;
+    const bool dense = eom__mass_route(s) == EOM_MASS_DENSE;
     int i, rc;
 
     if (!isfinite(t) || !eom__finite(x, 2 * (size_t)n))
@@ -473,7 +499,8 @@ int eom__evaluate_free(eom_system *s, double t, const double *x,
      * is an error even where the derivatives happen to stay finite; h
      * includes d2L/dqd dt; M is formed and factored each time, or once
      * when it is constant (the route: mass_route.c) */
-    if ((rc = eom__lagrange_block(s, t, x)) != EOM_OK)
+    rc = dense ? eom__block_dense(s, t, x) : eom__lagrange_block(s, t, x);
+    if (rc != EOM_OK)
         return rc;
     if ((rc = eom__nonconservative(s, t, x)) != EOM_OK)
         return rc;
@@ -482,55 +509,71 @@ int eom__evaluate_free(eom_system *s, double t, const double *x,
     for (i = 0; i < n; i++)
         s->qdd[i] = s->F[i] = s->g[i] - s->h[i] + s->Qv[i];
     s->power_t = -s->dLdt;
-    return factor ? eom__mass_factor(s, t, x) : EOM_OK;
+    if (!factor)
+        return EOM_OK;
+    return dense ? factor_mass(s) : eom__mass_factor(s, t, x);
 }
 
-int eom__evaluate(eom_system *s, double t, const double *x)
+int eom__evaluate_free(eom_system *s, double t, const double *x,
+                       int factor)
+{
+    return evaluate_free(s, t, x, factor);
+}
+
+/* The range-space solve of a model with constraints, after
+ * evaluate_free and M^-1 F in s->qdd. */
+static int constrained(eom_system *s, double t, const double *x)
 {
     const int n = s->n, m = s->m;
     const double *qd = x + n;
     int i, j, rc;
+    /* C and phi, then C qd (+ dphi/dt) and the curvature along the
+     * motion in one sweep */
+    if ((rc = eom__constraints_at(s, t, x)) != EOM_OK)
+        return rc;
+    if ((rc = eom__constraint_rates(s, t, x, NULL, s->phid, s->gam)))
+        return rc;
+    for (j = 0; j < m; j++)
+        s->gam[j] = -s->gam[j] - 2.0 * s->alpha * s->phid[j] -
+                    s->beta * s->beta * s->phi[j];
+    if ((rc = eom__factor_S(s)) != EOM_OK)
+        return rc;
+    for (j = 0; j < m; j++)
+        s->lam[j] = s->gam[j] - dot(s->C + (size_t)j * (size_t)n,
+                                    s->qdd, n);
+    if ((rc = eom__S_solve(s, s->lam)) != EOM_OK)
+        return rc;
+    for (j = 0; j < m; j++)
+        for (i = 0; i < n; i++)
+            s->qdd[i] += s->Y[(size_t)j * (size_t)n + (size_t)i] *
+                         s->lam[j];
+    /* moving constraints do work: lambda . (C qd), the power of the
+     * constraint force C^T lambda; so do velocity constraints with b
+     * != 0 (lambda . (A qd) = -lambda . b on them, 0 for b = 0) */
+    for (j = s->tphi.tindex >= 0 ? 0 : s->mh; j < m; j++)
+        s->power_t += s->lam[j] * dot(s->C + (size_t)j * (size_t)n,
+                                      qd, n);
+    return EOM_OK;
+}
 
-    if ((rc = eom__evaluate_free(s, t, x, 1)) != EOM_OK)
+int eom__evaluate(eom_system *s, double t, const double *x)
+{
+    int rc;
+    if ((rc = evaluate_free(s, t, x, 1)) != EOM_OK)
         return rc;
-    if ((rc = eom__mass_solve(s, s->qdd, 1)) != EOM_OK)
+    mass_solve(s, s->qdd, 1);
+    if (s->m > 0 && (rc = constrained(s, t, x)) != EOM_OK)
         return rc;
-    if (m > 0) {
-        /* C and phi, then C qd (+ dphi/dt) and the curvature along the
-         * motion in one sweep */
-        if ((rc = eom__constraints_at(s, t, x)) != EOM_OK)
-            return rc;
-        if ((rc = eom__constraint_rates(s, t, x, NULL, s->phid, s->gam)))
-            return rc;
-        for (j = 0; j < m; j++)
-            s->gam[j] = -s->gam[j] - 2.0 * s->alpha * s->phid[j] -
-                        s->beta * s->beta * s->phi[j];
-        if ((rc = eom__factor_S(s)) != EOM_OK)
-            return rc;
-        for (j = 0; j < m; j++)
-            s->lam[j] = s->gam[j] - dot(s->C + (size_t)j * (size_t)n,
-                                        s->qdd, n);
-        if ((rc = eom__S_solve(s, s->lam)) != EOM_OK)
-            return rc;
-        for (j = 0; j < m; j++)
-            for (i = 0; i < n; i++)
-                s->qdd[i] += s->Y[(size_t)j * (size_t)n + (size_t)i] *
-                             s->lam[j];
-        /* moving constraints do work: lambda . (C qd), the power of the
-         * constraint force C^T lambda; so do velocity constraints with b
-         * != 0 (lambda . (A qd) = -lambda . b on them, 0 for b = 0) */
-        for (j = s->tphi.tindex >= 0 ? 0 : s->mh; j < m; j++)
-            s->power_t += s->lam[j] * dot(s->C + (size_t)j * (size_t)n,
-                                          qd, n);
-    }
     s->power += s->power_t;
-    if (!eom__finite(s->qdd, (size_t)n))
+    if (!eom__finite(s->qdd, (size_t)s->n))
         return eom__fail(s, EOM_ERR_NONFINITE,
                          "the accelerations at t = %g are not finite", t);
     return EOM_OK;
 }
 
-/* One thread at a time: eom_rhs marks s busy for the duration of the
+/* Without constraints eom__evaluate_rhs is eom__evaluate (its augmented
+ * sparse solve needs constraints, kkt_sparse.c), so eom_rhs calls that
+ * directly. One thread at a time: eom_rhs marks s busy for the duration of the
  * call (one uncontended atomic exchange and one store, about 4
  * instructions against 3000 for the smallest model: docs/libeom.md). A
  * second thread that enters meanwhile touches nothing of s, not even its
@@ -545,7 +588,8 @@ int eom_rhs(eom_system *s, double t, const double *x, double *xd)
         return EOM_ERR_BUSY;
     if (!x || !xd) {
         rc = eom__fail(s, EOM_ERR_NULL, "eom_rhs: x or xd is NULL");
-    } else if ((rc = eom__evaluate_rhs(s, t, x)) == EOM_OK) {
+    } else if ((rc = s->m == 0 ? eom__evaluate(s, t, x)
+                               : eom__evaluate_rhs(s, t, x)) == EOM_OK) {
         memmove(xd, x + s->n, (size_t)s->n * sizeof(double));
         memcpy(xd + s->n, s->qdd, (size_t)s->n * sizeof(double));
         s->msg[0] = '\0';
