@@ -9,7 +9,8 @@
  *     value libm gives; ops on parameters are never folded;
  *   - dead-code elimination: the counters of tp_tape_stats_get and the
  *     tape itself (no op that reaches no output survives);
- *   - the tape's invariants (operands precede their op, leaves first);
+ *   - the tape's invariants (operands precede their op, leaves first),
+ *     and a workspace's per-op records equal to the tape's op arrays;
  *   - dependency analysis: tp_tape_count_dependent agrees with groups
  *     derived here from the tape's structure, the pendulum's sin/cos of q
  *     depend on group 0 only, and an op outside a group does not move when
@@ -87,7 +88,8 @@ static void check_tape(const tp_tape *T, const char *ctx)
     const tp_tape_stats st = stats(T);
     uint32_t i, o;
     unsigned mask;
-    int bad_order = 0, bad_leaf = 0, unreached = 0;
+    int bad_order = 0, bad_leaf = 0, unreached = 0, bad_rec = 0;
+    tp_ws *ws = NULL;
 
     reach = calloc(T->n_ops ? T->n_ops : 1, 1);
     CHECK(d && reach);
@@ -132,6 +134,19 @@ static void check_tape(const tp_tape *T, const char *ctx)
     if (bad_order || bad_leaf || unreached)
         CHECK_FAIL_("%s: %d ops out of order, %d misplaced leaves, %d dead "
                     "ops on the tape", ctx, bad_order, bad_leaf, unreached);
+    check_count_++;
+    /* a workspace's per-op records, which the sweeps read, repeat the
+     * tape's arrays exactly (sin and cos pairing and the passive-operand
+     * flags included) */
+    CHECK_INT(tp_ws_new(&ws, T, 1, NULL), TP_OK);
+    for (i = 0; ws && i < T->n_ops; i++)
+        if (ws->rec[i].op != T->opc[i] || ws->rec[i].fl != T->dep[i] ||
+            ws->rec[i].u != T->a0[i] || ws->rec[i].t != T->a1[i])
+            bad_rec++;
+    tp_ws_free(&ws);
+    if (bad_rec)
+        CHECK_FAIL_("%s: %d per-op records differ from the op arrays", ctx,
+                    bad_rec);
     check_count_++;
     /* dependency counts */
     for (mask = 0; mask < 8; mask++) {

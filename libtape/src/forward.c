@@ -11,6 +11,13 @@
  * group has a structurally zero tangent: the sweep skips it and its row is
  * kept zero (the invariant below), so consumers read zeros without a test.
  *
+ * The first-order sweeps (and reverse.c's second-order ones) read each op
+ * from the workspace's per-op records (tp_oprec: code, dependency byte
+ * and operands side by side) rather than from the tape's four arrays, and keep the
+ * tape's first active slot in a local: with fewer base pointers live the
+ * loop spills less (7 % fewer instructions per right-hand side at 2 and
+ * 10 links).
+ *
  * Invariant (ws->tan_mask, ws->tan_cols): every row of an op with
  * (dep & tan_mask) == 0 is zero in its first tan_cols columns and beyond.
  * Changing the mask zeroes the rows that leave the active set.
@@ -98,8 +105,9 @@ void tp__fwd1(tp_ws *ws, const double *x, int p, const double *S, size_t lds,
               int first, unsigned mask, uint32_t end)
 {
     const tp_tape *T = ws->t;
-    const uint8_t *opc = T->opc, *dep = T->dep;
-    const uint32_t *a0 = T->a0, *a1 = T->a1;
+    const uint8_t *dep = T->dep;
+    const tp_oprec *rec = ws->rec;
+    const uint32_t fa = T->first_active;
     const size_t P = (size_t)ws->P;
     const int pr = tp__lanes(p); /* columns swept; those past p stay 0 */
     const tp_kx kx = tp__kx(ws, pr, mask);
@@ -137,31 +145,31 @@ void tp__fwd1(tp_ws *ws, const double *x, int p, const double *S, size_t lds,
         tp_kx k1 = kx;
         k1.pr = TP_LANES;
         k1.P = TP_LANES;
-        for (i = T->first_active; i < end; i++)
-            tp__one_fwd1(&k1, i, opc[i], dep[i], a0[i], a1[i]);
+        for (i = fa; i < end; i++)
+            tp__one_fwd1(&k1, i, rec[i].op, rec[i].fl, rec[i].u, rec[i].t);
         return;
     }
     if (pr == TP_LANES) {
         tp_kx k1 = kx;
         k1.pr = TP_LANES;
-        for (i = T->first_active; i < end; i++)
-            tp__one_fwd1(&k1, i, opc[i], dep[i], a0[i], a1[i]);
+        for (i = fa; i < end; i++)
+            tp__one_fwd1(&k1, i, rec[i].op, rec[i].fl, rec[i].u, rec[i].t);
         return;
     }
 #endif
     if (pr == TP_LANES) {
         tp_kx k1 = kx;
         k1.pr = TP_LANES;
-        for (i = T->first_active; i < end; i++)
-            tp__k_fwd1(&k1, i, opc[i], dep[i], a0[i], a1[i]);
+        for (i = fa; i < end; i++)
+            tp__k_fwd1(&k1, i, rec[i].op, rec[i].fl, rec[i].u, rec[i].t);
     } else if (pr == 2 * TP_LANES) {
         tp_kx k2 = kx;
         k2.pr = 2 * TP_LANES;
-        for (i = T->first_active; i < end; i++)
-            tp__k_fwd1(&k2, i, opc[i], dep[i], a0[i], a1[i]);
+        for (i = fa; i < end; i++)
+            tp__k_fwd1(&k2, i, rec[i].op, rec[i].fl, rec[i].u, rec[i].t);
     } else {
-        for (i = T->first_active; i < end; i++)
-            tp__k_fwd1(&kx, i, opc[i], dep[i], a0[i], a1[i]);
+        for (i = fa; i < end; i++)
+            tp__k_fwd1(&kx, i, rec[i].op, rec[i].fl, rec[i].u, rec[i].t);
     }
 }
 
@@ -197,17 +205,18 @@ void tp__fwd1_ranged(tp_ws *ws, const double *x, int n, unsigned mask,
                      uint32_t end)
 {
     const tp_tape *T = ws->t;
-    const uint8_t *opc = T->opc, *dep = T->dep;
-    const uint32_t *a0 = T->a0, *a1 = T->a1, *fr = ws->frange;
+    const tp_oprec *rec = ws->rec;
+    const uint32_t fa = T->first_active;
+    const uint32_t *fr = ws->frange;
     tp_kx k = tp__kx(ws, 0, mask);
     double *tan = ws->tan;
     uint32_t i;
 
     tp__fwd1_ranged_seed(ws, x, n, mask);
-    for (i = T->first_active; i < end; i++) {
+    for (i = fa; i < end; i++) {
         k.tan = tan + TP_LANES * (size_t)fr[2 * i];
         k.pr = TP_LANES * (int)(fr[2 * i + 1] - fr[2 * i]);
-        tp__k_fwd1(&k, i, opc[i], dep[i], a0[i], a1[i]);
+        tp__k_fwd1(&k, i, rec[i].op, rec[i].fl, rec[i].u, rec[i].t);
     }
 }
 

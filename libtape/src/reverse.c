@@ -72,8 +72,9 @@ void tp__rev2(tp_ws *ws, const double *w, int p, unsigned mask, uint32_t end,
               double *g, double *HS, size_t ldh)
 {
     const tp_tape *T = ws->t;
-    const uint8_t *opc = T->opc, *dep = T->dep;
-    const uint32_t *a0 = T->a0, *a1 = T->a1;
+    const tp_oprec *rec = ws->rec;
+    /* a local: the kernels' byte stores (anz) could alias T's fields */
+    const uint32_t fa = T->first_active;
     const size_t P = (size_t)ws->P;
     const tp_kx kx = tp__kx(ws, tp__lanes(p), mask);
     double *adj = ws->adj, *atan = ws->atan;
@@ -88,17 +89,17 @@ void tp__rev2(tp_ws *ws, const double *w, int p, unsigned mask, uint32_t end,
         tp_kx k1 = kx;
         k1.pr = TP_LANES;
         k1.P = TP_LANES;
-        for (i = end; i-- > T->first_active;)
-            tp__one_rev2(&k1, i, opc[i], dep[i], a0[i], a1[i]);
+        for (i = end; i-- > fa;)
+            tp__one_rev2(&k1, i, rec[i].op, rec[i].fl, rec[i].u, rec[i].t);
     } else if (kx.pr == TP_LANES) {
         tp_kx k1 = kx;
         k1.pr = TP_LANES;
-        for (i = end; i-- > T->first_active;)
-            tp__one_rev2(&k1, i, opc[i], dep[i], a0[i], a1[i]);
+        for (i = end; i-- > fa;)
+            tp__one_rev2(&k1, i, rec[i].op, rec[i].fl, rec[i].u, rec[i].t);
     } else
 #endif
-        for (i = end; i-- > T->first_active;)
-            tp__k_rev2(&kx, i, opc[i], dep[i], a0[i], a1[i]);
+        for (i = end; i-- > fa;)
+            tp__k_rev2(&kx, i, rec[i].op, rec[i].fl, rec[i].u, rec[i].t);
     for (i = 0; i < T->n_indep; i++) {
         if (g)
             g[i] = adj[i];
@@ -148,19 +149,21 @@ void tp__rev2_ranged(tp_ws *ws, const double *w, int n, unsigned mask,
                      uint32_t end, double *g, double *HS)
 {
     const tp_tape *T = ws->t;
-    const uint8_t *opc = T->opc, *dep = T->dep;
-    const uint32_t *a0 = T->a0, *a1 = T->a1, *rr = ws->rrange;
+    const tp_oprec *rec = ws->rec;
+    /* a local: the kernels' byte stores (anz) could alias T's fields */
+    const uint32_t fa = T->first_active;
+    const uint32_t *rr = ws->rrange;
     tp_kx k = tp__kx(ws, 0, mask);
     double *atan = ws->atan, *tan = ws->tan;
     uint32_t i;
 
     tp__rev2_ranged_seed(ws, w);
-    for (i = end; i-- > T->first_active;) {
+    for (i = end; i-- > fa;) {
         const size_t off = TP_LANES * (size_t)rr[2 * i];
         k.tan = tan + off;
         k.atan = atan + off;
         k.pr = TP_LANES * (int)(rr[2 * i + 1] - rr[2 * i]);
-        tp__k_rev2(&k, i, opc[i], dep[i], a0[i], a1[i]);
+        tp__k_rev2(&k, i, rec[i].op, rec[i].fl, rec[i].u, rec[i].t);
     }
     tp__rev2_ranged_finish(ws, n, g, HS);
 }

@@ -168,6 +168,15 @@ tp_val tp__rec_op(tp_rec *r, int op, tp_val a, tp_val b, double c);
 
 /* ---- the tape --------------------------------------------------------- */
 
+/* One op as the interpreter's first- and second-order sweeps read it:
+ * the tape's opc, dep, a0 and a1 of that op side by side, one load base
+ * instead of four (workspace.c fills a workspace's copy; the tape itself
+ * stays the arrays, about 10 bytes an op). */
+typedef struct tp_oprec {
+    uint32_t u, t;
+    uint8_t op, fl;
+} tp_oprec;
+
 struct tp_tape {
     tp_allocator al;
     uint32_t n_ops;    /* total, leaves included */
@@ -241,6 +250,7 @@ struct tp_ws {
      * tangent row is zero outside its frange (the ranged sweeps keep it;
      * any other sweep writing tangents ends it). */
     uint32_t *frange, *rrange; /* [2 * n_ops] each */
+    tp_oprec *rec;             /* [n_ops] the tape's ops as records */
     int range_out, range_n;
     bool tan_ranged;
     char msg[TP_MSG_LEN];

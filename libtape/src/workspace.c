@@ -26,6 +26,7 @@ static void ws_release(tp_ws *ws)
     tp__free(&al, ws->cadj, n * sizeof(double));
     tp__free(&al, ws->frange, 2 * n * sizeof(uint32_t));
     tp__free(&al, ws->rrange, 2 * n * sizeof(uint32_t));
+    tp__free(&al, ws->rec, n * sizeof(tp_oprec));
     if (T) {
         tp__free(&al, ws->param, T->n_param * sizeof(double));
         tp__free(&al, ws->hs, (size_t)T->n_indep * P * sizeof(double));
@@ -50,11 +51,12 @@ size_t tp_ws_bytes(const tp_tape *t, int max_dirs)
     P = ((size_t)max_dirs + TP_LANES - 1) / TP_LANES * TP_LANES;
     /* what tp_ws_new allocates: tan and atan (n x P), hs (n_indep x P),
      * six arrays of n doubles and anz, the two range arrays (4 x n
-     * uint32_t), the parameters, outputs and gradient */
+     * uint32_t), the op records, the parameters, outputs and gradient */
     b = tp__mulsz(tp__mulsz(tp__mulsz(n, P), 2), sizeof(double));
     b = addsz(b, tp__mulsz(tp__mulsz(t->n_indep, P), sizeof(double)));
     b = addsz(b,
-              tp__mulsz(n, 5 * sizeof(double) + 1 + 4 * sizeof(uint32_t)));
+              tp__mulsz(n, 5 * sizeof(double) + 1 + 4 * sizeof(uint32_t) +
+                               sizeof(tp_oprec)));
     b = addsz(b, ((size_t)t->n_param + t->n_out + t->n_indep) *
                          sizeof(double));
     return addsz(b, sizeof(tp_ws));
@@ -65,7 +67,7 @@ int tp_ws_new(tp_ws **out, const tp_tape *t, int max_dirs,
 {
     tp_allocator a = tp__allocator(al);
     tp_ws *ws;
-    size_t n, P;
+    size_t n, P, i;
     if (!out)
         return TP_ERR_NULL;
     *out = NULL;
@@ -100,12 +102,19 @@ int tp_ws_new(tp_ws **out, const tp_tape *t, int max_dirs,
     ws->g = tp__calloc(&a, t->n_indep, sizeof(double));
     ws->frange = tp__calloc(&a, 2 * n, sizeof(uint32_t));
     ws->rrange = tp__calloc(&a, 2 * n, sizeof(uint32_t));
+    ws->rec = tp__calloc(&a, n, sizeof(tp_oprec));
     ws->range_out = -1;
     if (!ws->v || !ws->aux || !ws->adj || !ws->tan || !ws->atan || !ws->anz || !ws->d1 ||
         !ws->d2 || !ws->param || !ws->hs || !ws->wout ||
-        !ws->g || !ws->frange || !ws->rrange) {
+        !ws->g || !ws->frange || !ws->rrange || !ws->rec) {
         ws_release(ws);
         return TP_ERR_NOMEM;
+    }
+    for (i = 0; i < n; i++) {
+        ws->rec[i].op = t->opc[i];
+        ws->rec[i].fl = t->dep[i];
+        ws->rec[i].u = t->a0[i];
+        ws->rec[i].t = t->a1[i];
     }
     if (t->n_param)
         memcpy(ws->param, t->param_dflt, t->n_param * sizeof(double));
