@@ -494,8 +494,13 @@ TP_NOINLINE static int lagrange_swept(tp_ws *ws, const double *x, int out,
         const unsigned mask = tp__unit_seed_mask(T, n, n);
         if (ws->range_out != out || ws->range_n != n)
             tp__lagrange_ranges(ws, out, n, end);
-        tp__fwd1_ranged(ws, x, n, mask, end);
-        tp__rev2_ranged(ws, w, n, mask, end, ws->g, ws->hs);
+        if (tp__strips_pay(ws, n)) {
+            tp__lagrange_strips(ws, x, w, n, mask, end, ws->strip_w, ws->g,
+                                ws->hs);
+        } else {
+            tp__fwd1_ranged(ws, x, n, mask, end);
+            tp__rev2_ranged(ws, w, n, mask, end, ws->g, ws->hs);
+        }
         ok &= store_block(ws->hs, n, 0, n, timed, qd, M, h);
     }
     for (c0 = 0; c0 < n && (M || h) && !ranged; c0 += ws->max_dirs) {

@@ -35,7 +35,7 @@ static void seed_outputs(tp_ws *ws, const double *w)
 }
 
 /* Zero the adjoints seeded on outputs that no sweep visits (passive). */
-static void clear_passive_seeds(tp_ws *ws)
+void tp__clear_passive_seeds(tp_ws *ws)
 {
     const tp_tape *T = ws->t;
     uint32_t o;
@@ -64,7 +64,7 @@ void tp__rev1(tp_ws *ws, const double *w, uint32_t end, double *g)
             g[i] = adj[i];
         adj[i] = 0.0;
     }
-    clear_passive_seeds(ws);
+    tp__clear_passive_seeds(ws);
 }
 
 TP_VECTOR_CLONES
@@ -109,7 +109,7 @@ void tp__rev2(tp_ws *ws, const double *w, int p, unsigned mask, uint32_t end,
         anz[i] = 0;
     }
     memset(atan, 0, T->n_indep * P * sizeof(double));
-    clear_passive_seeds(ws);
+    tp__clear_passive_seeds(ws);
 }
 
 /* The parts of tp__rev2_ranged that its sweeps in strips (strips.c)
@@ -138,7 +138,7 @@ void tp__rev2_ranged_finish(tp_ws *ws, int n, double *g, double *HS)
         anz[i] = 0;
     }
     memset(atan, 0, T->n_indep * P * sizeof(double));
-    clear_passive_seeds(ws);
+    tp__clear_passive_seeds(ws);
 }
 
 /* tp__rev2 after tp__fwd1_ranged, each op's kernels run over its range

@@ -253,6 +253,12 @@ struct tp_ws {
     tp_oprec *rec;             /* [n_ops] the tape's ops as records */
     int range_out, range_n;
     bool tan_ranged;
+    /* strips.c's scratch: each op's adjoint as the first strip read it
+     * [n_ops], and strip_w wide tangent and adjoint-tangent rows [n_ops
+     * strip_w] each, from stan (strip_w 0: no strips; strip_buf holds
+     * them with room to start stan on a cache line) */
+    double *abar, *strip_buf, *stan, *satan;
+    int strip_w;
     char msg[TP_MSG_LEN];
 };
 
@@ -291,6 +297,19 @@ void tp__rev2_ranged(tp_ws *ws, const double *w, int n, unsigned mask,
 void tp__fwd1_ranged_seed(tp_ws *ws, const double *x, int n, unsigned mask);
 void tp__rev2_ranged_seed(tp_ws *ws, const double *w);
 void tp__rev2_ranged_finish(tp_ws *ws, int n, double *g, double *HS);
+/* Zero the adjoints seeded on outputs no sweep visits (reverse.c). */
+void tp__clear_passive_seeds(tp_ws *ws);
+/* Strips (strips.c): the width of a workspace of max_dirs directions (0:
+ * it never sweeps in strips), whether tp_lagrange_t of n rates sweeps in
+ * strips, and tp__fwd1_ranged then tp__rev2_ranged (output weights w, g
+ * and HS as there), the same results bit for bit, with the rows swept in
+ * strips of width columns (a multiple of 2 TP_LANES, at most
+ * ws->strip_w). */
+int tp__strip_width(int max_dirs);
+bool tp__strips_pay(const tp_ws *ws, int n);
+void tp__lagrange_strips(tp_ws *ws, const double *x, const double *w, int n,
+                         unsigned mask, uint32_t end, int width, double *g,
+                         double *HS);
 /* Recompute the passive prefix of v if a parameter changed (forward.c). */
 void tp__ensure_passive(tp_ws *ws);
 /* The dependency mask of a seed (groups of independents it touches). */

@@ -9,6 +9,16 @@
 
 #include "tape_internal.h"
 
+/* Doubles of strip_buf: two arrays of n rows w wide and a cache line's
+ * room to align them (w 0: none). */
+static size_t strip_len(size_t n, int w)
+{
+    const size_t len = tp__mulsz(tp__mulsz(n, (size_t)w), 2);
+    if (!w)
+        return 0;
+    return len > SIZE_MAX - 8 ? SIZE_MAX : len + 8;
+}
+
 static void ws_release(tp_ws *ws)
 {
     const tp_allocator al = ws->al;
@@ -27,6 +37,8 @@ static void ws_release(tp_ws *ws)
     tp__free(&al, ws->frange, 2 * n * sizeof(uint32_t));
     tp__free(&al, ws->rrange, 2 * n * sizeof(uint32_t));
     tp__free(&al, ws->rec, n * sizeof(tp_oprec));
+    tp__free(&al, ws->abar, n * sizeof(double));
+    tp__free(&al, ws->strip_buf, strip_len(n, ws->strip_w) * sizeof(double));
     if (T) {
         tp__free(&al, ws->param, T->n_param * sizeof(double));
         tp__free(&al, ws->hs, (size_t)T->n_indep * P * sizeof(double));
@@ -50,13 +62,16 @@ size_t tp_ws_bytes(const tp_tape *t, int max_dirs)
     n = t->n_ops;
     P = ((size_t)max_dirs + TP_LANES - 1) / TP_LANES * TP_LANES;
     /* what tp_ws_new allocates: tan and atan (n x P), hs (n_indep x P),
-     * six arrays of n doubles and anz, the two range arrays (4 x n
-     * uint32_t), the op records, the parameters, outputs and gradient */
+     * five arrays of n doubles (v, aux, adj, d1, d2), strips.c's abar and
+     * anz, the two range arrays (4 x n uint32_t), the op records,
+     * strips.c's rows, the parameters, outputs and gradient */
     b = tp__mulsz(tp__mulsz(tp__mulsz(n, P), 2), sizeof(double));
     b = addsz(b, tp__mulsz(tp__mulsz(t->n_indep, P), sizeof(double)));
     b = addsz(b,
-              tp__mulsz(n, 5 * sizeof(double) + 1 + 4 * sizeof(uint32_t) +
+              tp__mulsz(n, 6 * sizeof(double) + 1 + 4 * sizeof(uint32_t) +
                                sizeof(tp_oprec)));
+    b = addsz(b, tp__mulsz(strip_len(n, tp__strip_width(max_dirs)),
+                           sizeof(double)));
     b = addsz(b, ((size_t)t->n_param + t->n_out + t->n_indep) *
                          sizeof(double));
     return addsz(b, sizeof(tp_ws));
@@ -103,10 +118,29 @@ int tp_ws_new(tp_ws **out, const tp_tape *t, int max_dirs,
     ws->frange = tp__calloc(&a, 2 * n, sizeof(uint32_t));
     ws->rrange = tp__calloc(&a, 2 * n, sizeof(uint32_t));
     ws->rec = tp__calloc(&a, n, sizeof(tp_oprec));
+    ws->abar = tp__calloc(&a, n, sizeof(double));
+    ws->strip_w = tp__strip_width(max_dirs);
+    if (ws->strip_w) {
+        const size_t len = strip_len(n, ws->strip_w);
+        if (len == SIZE_MAX ||
+            tp__mulsz(len, sizeof(double)) == SIZE_MAX) {
+            ws->strip_w = 0;
+            ws_release(ws);
+            return TP_ERR_TOOBIG;
+        }
+        ws->strip_buf = tp__calloc(&a, len, sizeof(double));
+        if (ws->strip_buf) {
+            /* stan from the first cache line in strip_buf */
+            const uintptr_t p = (uintptr_t)ws->strip_buf;
+            ws->stan = (double *)((p + 63u) & ~(uintptr_t)63u);
+            ws->satan = ws->stan + n * (size_t)ws->strip_w;
+        }
+    }
     ws->range_out = -1;
     if (!ws->v || !ws->aux || !ws->adj || !ws->tan || !ws->atan || !ws->anz || !ws->d1 ||
         !ws->d2 || !ws->param || !ws->hs || !ws->wout ||
-        !ws->g || !ws->frange || !ws->rrange || !ws->rec) {
+        !ws->g || !ws->frange || !ws->rrange || !ws->rec || !ws->abar ||
+        (ws->strip_w && !ws->strip_buf)) {
         ws_release(ws);
         return TP_ERR_NOMEM;
     }
