@@ -43,10 +43,12 @@
  * strips of 64 were 2x faster than the unstripped sweep, of 32 and 48
  * slower than 64, of 128 slower again (rows of 512 bytes: 8 to a page, a
  * strip's rows of the ops it meets about the second-level cache's size).
- * In bench-rhs strips of 64 pay at 200 and 400 links and cost 20 to 30 %
- * at 100, where the full rows still fit the caches and each strip's pass
- * over the ops costs more than it saves; sizes from 101 to 199 were not
- * measured and stay unstripped. */
+ * In bench-rhs strips of 64 paid at 200 links at every load, at 400 on
+ * a quiet machine only (at load 11 to 16, the last-level cache shared
+ * with the other processes, 400 links were about 15 % slower), and cost
+ * 20 to 30 % at 100, where the full rows still fit the caches and each
+ * strip's pass over the ops costs more than it saves; sizes from 101 to
+ * 199 were not measured and stay unstripped. */
 #define STRIP_W 64
 #define STRIPS_FROM 200
 
