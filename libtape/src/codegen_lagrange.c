@@ -37,7 +37,8 @@
  * values), so each direction's arithmetic is what it was, term for
  * term and in the same order. A strip's row statements are macros
  * (emit_strip_macros): 4-wide vectors where the code is built with AVX,
- * 2-wide ones otherwise.
+ * 2-wide ones otherwise. With 4 strips or more a row statement runs
+ * only in the strips its row's column range reaches (lagrange_gates).
  */
 #include <stdlib.h>
 #include <string.h>
