@@ -405,12 +405,14 @@ static void case_resume_garbage(void)
 }
 
 /* Two ensembles on one summary: the second is refused at once while the
- * first holds the summary's lock. */
+ * first holds the summary's lock. The first is given far more work than
+ * the checks take (it is killed at the end): with 10 s of motion a run it
+ * once finished before the checks while this test ran under valgrind. */
 static void case_resume_lock(void)
 {
     char model[PATH_MAX + 32], out[300];
     const char *args[] = {ensemble_path, model, "--sweep", "th1=0.5:2.5:40",
-                          "--t-end", "10", "--integrator", "erk", "--rtol",
+                          "--t-end", "10000", "--integrator", "erk", "--rtol",
                           "1e-11", "--atol", "1e-13", "--threads", "1",
                           "-q", "--out", out, NULL};
     pid_t pid;
