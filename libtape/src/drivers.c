@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "codegen.h"
+#include "sweep.h" /* TP_VECTOR_CLONES for store_block_n */
 #include "tape_internal.h"
 
 static int fail(tp_ws *ws, int status, const char *fmt, ...)
@@ -47,16 +48,6 @@ static inline uint64_t nonfinite_bit(double a)
 }
 #define TP_NONFINITE_OR(acc, a) ((acc) |= nonfinite_bit(a))
 #define TP_ALL_FINITE(acc) (((acc) >> 63) == 0)
-
-/* The AVX2 clone beside the generic code for the loops over n^2 values
- * (GCC's function multi-versioning, as the sweeps' TP_VECTOR_CLONES in
- * sweep.h, and not under ThreadSanitizer for the reason given there). */
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) &&    \
-    defined(__linux__) && !defined(__SANITIZE_THREAD__)
-#define TP_DRIVER_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define TP_DRIVER_CLONES
-#endif
 
 /* Accumulates the status of a call: TP_WARN_NONFINITE once any requested
  * result is not finite. */
@@ -407,7 +398,7 @@ TP_STORE_BLOCK_OF_SIZE(6)
  * vectors for the copy of M with its check and for h's sums, which
  * vectorize across columns, so that each column's sum keeps its order
  * (no FMA: both clones round alike). */
-TP_DRIVER_CLONES TP_NOINLINE static bool
+TP_VECTOR_CLONES TP_NOINLINE static bool
 store_block_n(const double *H, int n, int c0, int pc, bool timed,
               const double *qd, double *M, double *h)
 {
