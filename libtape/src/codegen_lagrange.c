@@ -21,6 +21,19 @@
  * loads them), writes values of the cone into v and aux, tangent rows
  * into tan (only rows of ops depending on a seeded group, as a forward
  * sweep with that mask would), and uses at and adj as scratch of its own.
+ *
+ * h (the Lagrange block, libtape.md): the ops on no rate form the q
+ * and t side of a cut. Below it every tangent in the rates' directions
+ * is zero, so the rows there propagate linearly to q and t, and
+ * h = sum_j qd_j A(q_j) + A(t) is the sum over the cut of tau_i A(i),
+ * tau_i the op's first-order tangent along (qd on q, 1 on t). So the
+ * forward code computes tau_i (into tau, by the formula of the op's fwd1
+ * row kernel), an op on no rate reached by a row adds tau_i times it to
+ * the accumulator hh instead of passing it to its operands (which then
+ * get no row from it), and the end of the sweep adds qd_j A(q_j) and
+ * A(t) for the rows the rates' ops wrote there. The interpreter does the
+ * same sums in the same order (sweep_ops.h): h is equal bit for bit. The
+ * q's and t's rows of the Hessian columns are no longer written.
  * Rows are P (a multiple of TP_LANES) wide: up to ROWS_UNROLL written out
  * element by element, wider ones through small row functions.
  *
@@ -68,6 +81,14 @@ typedef struct lg {
     uint32_t *fh, *rh, *setter, *first_w; /* first_w: its op */
     tp_seq *rs;
     uint32_t cur; /* the op being written */
+    /* The Lagrange block's h (lagrange_h): the ops on no seeded group
+     * carry tau, their first-order tangent along (qd on q, 1 on t), and
+     * add tau times their adjoint-tangent row to h instead of passing
+     * the row to their operands. nq: the q's (independents 0 .. nq - 1,
+     * whose rates are nq .. 2 nq - 1), tslot: the time's slot (or
+     * TP_NO_SLOT). */
+    bool hm;
+    uint32_t nq, tslot;
 } lg;
 
 /* One term of a row update: coef * (row src). */
@@ -140,6 +161,29 @@ static void emit_row(lg *g, char kind, uint32_t d, bool set, int nt,
         tp__sbuf_puts(b, ");\n");
     }
     tp__sbuf_puts(b, "}\n");
+}
+
+/* h[k] = h[k] + coef * src[k] over the block's columns (the strip's, in
+ * strips): dst the accumulator's name, src a row expression; the same
+ * vector statements as a row update of one term. */
+static void emit_hterm(const lg *g, tp_sbuf *b, const char *dst,
+                       const char *coef, const char *src)
+{
+    int k;
+    if (g->strips) {
+        tp__sbuf_printf(b, "TPC_R1a(%s, (%s), (%s));\n", dst, coef, src);
+    } else if (g->W <= ROWS_UNROLL) {
+        tp__sbuf_printf(b, "{\nconst double c0 = %s; const double *s0 = %s;\n",
+                        coef, src);
+        for (k = 0; k < g->W; k += 2)
+            tp__sbuf_printf(b,
+                            "tpc_st(%s + %d, tpc_ld(%s + %d) + (c0 * "
+                            "tpc_ld(s0 + %d)));\n",
+                            dst, k, dst, k, k);
+        tp__sbuf_puts(b, "}\n");
+    } else {
+        tp__sbuf_printf(b, "tpr_1a(%s, %s, %s);\n", dst, coef, src);
+    }
 }
 
 /* A strip's row statements, d (= or +=) c0 s0 (+ c1 s1 (+ c2 s2)) over
@@ -251,6 +295,78 @@ static void row_to(lg *g, uint32_t w, int nt, const term *t)
 
 /* ---- forward ----------------------------------------------------------- */
 
+/* The tau of slot s as an expression: q_j's is qd_j (the leaf v[nq + j]),
+ * the time's 1.0, an op's tau[s]. */
+static void tau_of(const lg *g, uint32_t s, char *e, size_t n)
+{
+    if (s < g->nq)
+        snprintf(e, n, "v[%u]", g->nq + s);
+    else if (s == g->tslot)
+        snprintf(e, n, "1.0");
+    else
+        snprintf(e, n, "tau[%u]", s);
+}
+
+/* tau of op i, on no seeded group: the formula of its fwd1 row kernel
+ * (sweep_ops.h) with the rows replaced by the operands' taus, term for
+ * term (a passive operand's term left out as there; GEN's binary kernel
+ * keeps both terms, a passive operand's tau being zero). */
+static void emit_tau(lg *g, uint32_t i)
+{
+    const tp_tape *T = g->T;
+    const unsigned op = T->opc[i], fl = T->dep[i];
+    const uint32_t u = T->a0[i], t = T->a1[i];
+    const bool up = fl & TP_DEP_UPASSIVE, tpas = fl & TP_DEP_TPASSIVE;
+    char tu[32] = "0.0", tt[32] = "0.0";
+    tp_sbuf *b = g->b;
+    if (!up)
+        tau_of(g, u, tu, sizeof tu);
+    if (tp__op_kind(op) == TP_KIND_BINARY && !tpas)
+        tau_of(g, t, tt, sizeof tt);
+    tp__sbuf_printf(b, "tau[%u] = ", i);
+    switch (op) {
+    case TP_OP_ADD:
+        if (tpas)
+            tp__sbuf_printf(b, "%s;\n", tu);
+        else if (up)
+            tp__sbuf_printf(b, "%s;\n", tt);
+        else
+            tp__sbuf_printf(b, "%s + %s;\n", tu, tt);
+        return;
+    case TP_OP_SUB:
+        if (tpas)
+            tp__sbuf_printf(b, "%s;\n", tu);
+        else if (up)
+            tp__sbuf_printf(b, "-1.0 * %s;\n", tt);
+        else
+            tp__sbuf_printf(b, "%s - %s;\n", tu, tt);
+        return;
+    case TP_OP_MUL:
+        if (tpas)
+            tp__sbuf_printf(b, "v[%u] * %s;\n", t, tu);
+        else if (up)
+            tp__sbuf_printf(b, "v[%u] * %s;\n", u, tt);
+        else
+            tp__sbuf_printf(b, "v[%u] * %s + v[%u] * %s;\n", t, tu, u, tt);
+        return;
+    case TP_OP_NEG:
+    case TP_OP_CSUB: tp__sbuf_printf(b, "-1.0 * %s;\n", tu); return;
+    case TP_OP_ADDC: tp__sbuf_printf(b, "1.0 * %s;\n", tu); return;
+    case TP_OP_MULC: tp__sbuf_printf(b, "K[%u] * %s;\n", t, tu); return;
+    case TP_OP_SQR:
+        tp__sbuf_printf(b, "(2.0 * v[%u]) * %s;\n", u, tu);
+        return;
+    case TP_OP_SIN: tp__sbuf_printf(b, "aux[%u] * %s;\n", i, tu); return;
+    case TP_OP_COS: tp__sbuf_printf(b, "(-aux[%u]) * %s;\n", i, tu); return;
+    default: break;
+    }
+    /* GEN: d holds the partials (emit_forward) */
+    if (tp__op_kind(op) == TP_KIND_BINARY)
+        tp__sbuf_printf(b, "d.fu * %s + d.ft * %s;\n", tu, tt);
+    else
+        tp__sbuf_printf(b, "d.fu * %s;\n", tu);
+}
+
 static void emit_forward(lg *g, uint32_t i)
 {
     const tp_tape *T = g->T;
@@ -267,8 +383,17 @@ static void emit_forward(lg *g, uint32_t i)
     else
         tp__sbuf_printf(g->b, "tp__value_%s(&y, %uu, %u, %uu, %uu, %uu);\n",
                         tp__op_fn_name(op), i, op, fl, u, t);
-    if (!tn(g, i))
+    if (!tn(g, i)) {
+        if (g->hm) {
+            if (strcmp(tp__op_fn_name(op), "GEN") == 0)
+                tp__sbuf_printf(g->b,
+                                "tpc_partials(v, aux, %uu, %u, %uu, %uu, "
+                                "&d);\n",
+                                i, op, u, t);
+            emit_tau(g, i);
+        }
         return;
+    }
     /* the first partials as expressions */
     switch (op) {
     case TP_OP_ADD: strcpy(cu, "1.0"); strcpy(ct, "1.0"); break;
@@ -466,6 +591,31 @@ static void emit_rows(lg *g, uint32_t i, bool second)
     }
 }
 
+/* Op i on no seeded group, in the Lagrange block's h: its scalar
+ * adjoint (tp__adj1_*), and where a row reached it, h += tau_i times its
+ * row (the row is not passed on: the operands' rows stay as they are). */
+static void emit_reverse_h(lg *g, uint32_t i)
+{
+    const tp_tape *T = g->T;
+    const unsigned op = T->opc[i];
+    char src[48], coef[32];
+    tp__sbuf_printf(g->b, "{\nconst double a = adj[%u];\n", i);
+    if (!strcmp(tp__op_fn_name(op), "GEN"))
+        tp__sbuf_printf(g->b, "tpc_partials(v, aux, %uu, %u, %uu, %uu, &d);\n",
+                        i, op, T->a0[i], T->a1[i]);
+    emit_adjoint(g, i, false);
+    if (g->br != g->b)
+        tp__sbuf_puts(g->b, "}\n");
+    if (g->an[i] && g->rw[i]) {
+        /* a row structurally zero adds zeros to h, which is never -0 */
+        snprintf(coef, sizeof coef, "tau[%u]", i);
+        snprintf(src, sizeof src, "%c_(%u)", g->strips ? 'B' : 'A', i);
+        emit_hterm(g, g->br, "hh", coef, src);
+    }
+    if (g->br == g->b)
+        tp__sbuf_puts(g->b, "}\n");
+}
+
 static void emit_reverse(lg *g, uint32_t i)
 {
     const tp_tape *T = g->T;
@@ -476,6 +626,10 @@ static void emit_reverse(lg *g, uint32_t i)
     size_t at0;
     if (!g->aw[i])
         return; /* nothing reached it */
+    if (g->hm && !second) {
+        emit_reverse_h(g, i);
+        return;
+    }
     tp__sbuf_printf(g->b, "{\nconst double a = adj[%u];\n", i);
     if (gen)
         tp__sbuf_printf(g->b, "tpc_partials(v, aux, %uu, %u, %uu, %uu, &d);\n",
@@ -696,10 +850,12 @@ void tp__emit_blocks_common(int P, tp_sbuf *b)
                   "#define B_(s) (at + (size_t)(s) * SW)\n"
                   "#define LG_ARGS double *restrict v, double *restrict aux, "
                   "double *restrict tan, double *restrict at, "
-                  "double *restrict adj, int s_\n"
+                  "double *restrict adj, double *restrict tau, "
+                  "double *restrict hh, int s_\n"
                   "#define LG_BEGIN tp_kx y; tp_partials d; "
                   "memset(&y, 0, sizeof y); y.K = K; y.v = v; y.aux = aux; "
-                  "(void)d; (void)tan; (void)at; (void)adj; (void)s_;\n");
+                  "(void)d; (void)tan; (void)at; (void)adj; (void)tau; "
+                  "(void)hh; (void)s_;\n");
 }
 
 /* The strip's width for rows P wide, 0 for no strips. A strip's rows
@@ -718,11 +874,12 @@ static int strip_width(int P, uint32_t n_ops)
     return 0;
 }
 
-/* The copy-out of the independents' rows (strips: this strip's columns
- * c_ .. c_ + w_ - 1 of them) and, once, their adjoints: a statement
- * each, repeated runs as loops. */
-static int emit_results(lg *g, int count, bool rows, bool grads, bool loops,
-                        tp_sbuf *b)
+/* The copy-out of the rates' rows (strips: this strip's columns c_ ..
+ * c_ + w_ - 1 of them; the q's and the time's rows are summed into h
+ * instead, emit_hend) and, once, every independent's adjoint: a
+ * statement each, repeated runs as loops. */
+static int emit_results(lg *g, int first, int count, bool rows, bool grads,
+                        bool loops, tp_sbuf *b)
 {
     tp_seq q;
     uint32_t i, *clo = NULL;
@@ -730,13 +887,15 @@ static int emit_results(lg *g, int count, bool rows, bool grads, bool loops,
     int st;
     memset(&q, 0, sizeof q);
     for (i = 0; i < g->T->n_indep; i++) {
+        const bool row = rows && i >= (uint32_t)first &&
+                         i < (uint32_t)(first + count);
         if (grads) {
             if (g->aw[i])
                 tp__sbuf_printf(&q.text, "gr[%u] = adj[%u];\n", i, i);
             else
                 tp__sbuf_printf(&q.text, "gr[%u] = 0.0;\n", i);
         }
-        if (rows && g->strips) {
+        if (row && g->strips) {
             if (g->rw[i])
                 tp__sbuf_printf(&q.text,
                                 "tpc_out(H + %u + c_, sb_ + (size_t)%u * SW, "
@@ -745,7 +904,7 @@ static int emit_results(lg *g, int count, bool rows, bool grads, bool loops,
             else
                 tp__sbuf_printf(&q.text, "tpc_out0(H + %u + c_, w_);\n",
                                 i * (uint32_t)count);
-        } else if (rows) {
+        } else if (row) {
             if (g->rw[i])
                 tp__sbuf_printf(&q.text,
                                 "memcpy(H + %u, A_(%u), %d * sizeof(double));\n",
@@ -755,6 +914,40 @@ static int emit_results(lg *g, int count, bool rows, bool grads, bool loops,
                                 "memset(H + %u, 0, %d * sizeof(double));\n",
                                 i * (uint32_t)count, count);
         }
+        tp__seq_close(&q, false);
+    }
+    st = tp__seq_emit(&q, b, loops, NULL, NULL, &clo, &nc);
+    free(clo);
+    tp__seq_free(&q);
+    return st;
+}
+
+/* The end of the sweep for h (lagrange_h), into the accumulator dst
+ * (hh_ or, in strips, hb_): h += qd_j times q_j's row for j ascending,
+ * then + the time's row. A row never written is a zero row, whose terms
+ * leave h as it is (h starts at +0.0, so it is never -0). A statement
+ * each, repeated runs as loops. */
+static int emit_hend(lg *g, const char *dst, bool loops, tp_sbuf *b)
+{
+    tp_seq q;
+    uint32_t j, *clo = NULL;
+    unsigned nc = 0;
+    char coef[32], src[64];
+    int st;
+    memset(&q, 0, sizeof q);
+    for (j = 0; j <= g->nq; j++) {
+        const uint32_t s = j < g->nq ? j : g->tslot;
+        if (s == TP_NO_SLOT || !g->rw[s])
+            continue;
+        if (j < g->nq)
+            snprintf(coef, sizeof coef, "v[%u]", g->nq + j);
+        else
+            snprintf(coef, sizeof coef, "1.0");
+        if (g->strips)
+            snprintf(src, sizeof src, "sb_ + (size_t)%u * SW", s);
+        else
+            snprintf(src, sizeof src, "A_(%u)", s);
+        emit_hterm(g, &q.text, dst, coef, src);
         tp__seq_close(&q, false);
     }
     st = tp__seq_emit(&q, b, loops, NULL, NULL, &clo, &nc);
@@ -823,6 +1016,14 @@ int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
     int st = lg_init(&g, T, first, count, P, "lg", b);
     if (st != TP_OK)
         return st;
+    if (first != count || T->n_indep < 2 * (uint32_t)count ||
+        T->n_indep > 2 * (uint32_t)count + 1) {
+        free(g.need); /* h needs the q's, the rates and the time */
+        return TP_ERR_SIZE;
+    }
+    g.hm = true;
+    g.nq = (uint32_t)first;
+    g.tslot = T->n_indep % 2 ? T->n_indep - 1 : TP_NO_SLOT;
     g.W = strip_width(P, T->n_ops);
     g.strips = g.W > 0;
     if (!g.strips)
@@ -892,17 +1093,22 @@ int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
                      "TPC_EXPORT void tpc_lagrange(double *restrict v, "
                      "double *restrict aux, double *restrict tan, "
                      "double *restrict at, double *restrict adj, "
-                     "double *restrict gr, double *restrict H)\n{\n");
+                     "double *restrict tau, double *restrict gr, "
+                     "double *restrict H, double *restrict h)\n{\n");
     if (!g.strips) {
+        tp__sbuf_puts(b, "double hh_[PW];\nmemset(hh_, 0, sizeof hh_);\n");
         emit_seeds(b, first, count, P);
         tp__sbuf_printf(b, "adj[%u] = 1.0;\n", o);
-        emit_calls(b, 0, k[4], "v, aux, tan, at, adj, 0");
-        st = emit_results(&g, count, true, true, loops, b);
+        emit_calls(b, 0, k[4], "v, aux, tan, at, adj, tau, hh_, 0");
+        st = emit_results(&g, first, count, true, true, loops, b);
+        if (st == TP_OK)
+            st = emit_hend(&g, "hh_", loops, b);
+        tp__sbuf_printf(b, "memcpy(h, hh_, %d * sizeof(double));\n", count);
     } else {
         tp__sbuf_printf(b, "adj[%u] = 1.0;\n", o);
-        emit_calls(b, k[0], k[1], "v, aux, tan, at, adj, 0");
-        emit_calls(b, k[2], k[3], "v, aux, tan, at, adj, 0");
-        st = emit_results(&g, count, false, true, loops, b);
+        emit_calls(b, k[0], k[1], "v, aux, tan, at, adj, tau, NULL, 0");
+        emit_calls(b, k[2], k[3], "v, aux, tan, at, adj, tau, NULL, 0");
+        st = emit_results(&g, first, count, false, true, loops, b);
         tp__sbuf_printf(b,
                         "double *restrict su_ = tpc_line(at), *restrict sb_ "
                         "= tpc_line(su_ + (size_t)%uu * SW);\n"
@@ -921,12 +1127,16 @@ int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
             "const int c_ = s_ * SW;\n"
             "const int w_ = %d - c_ < SW ? %d - c_ : SW;\n"
             "for (int k_ = c_; k_ < c_ + w_; k_++)\n"
-            "    su_[(size_t)(%d + k_) * SW + (size_t)(k_ - c_)] = 1.0;\n",
+            "    su_[(size_t)(%d + k_) * SW + (size_t)(k_ - c_)] = 1.0;\n"
+            "double hb_[SW];\nmemset(hb_, 0, sizeof hb_);\n",
             (count + g.W - 1) / g.W, count, count, first);
-        emit_calls(b, k[1], k[2], "v, aux, su_, sb_, adj, s_");
-        emit_calls(b, k[3], k[4], "v, aux, su_, sb_, adj, s_");
+        emit_calls(b, k[1], k[2], "v, aux, su_, sb_, adj, tau, hb_, s_");
+        emit_calls(b, k[3], k[4], "v, aux, su_, sb_, adj, tau, hb_, s_");
         if (st == TP_OK)
-            st = emit_results(&g, count, true, false, loops, b);
+            st = emit_results(&g, first, count, true, false, loops, b);
+        if (st == TP_OK)
+            st = emit_hend(&g, "hb_", loops, b);
+        tp__sbuf_puts(b, "memcpy(h + c_, hb_, (size_t)w_ * sizeof(double));\n");
         /* the seed rows zero again for the next strip's */
         tp__sbuf_printf(
             b,
@@ -976,7 +1186,8 @@ int tp__emit_jacobian(const tp_tape *T, int P, bool loops, tp_sbuf *b)
                      "double *restrict aux, double *restrict tan)\n{\n");
     emit_seeds(b, 0, count, P);
     for (k = 0; k < nchunk; k++)
-        tp__sbuf_printf(b, "jc_%d(v, aux, tan, NULL, NULL, 0);\n", k);
+        tp__sbuf_printf(b, "jc_%d(v, aux, tan, NULL, NULL, NULL, NULL, 0);\n",
+                        k);
     tp__sbuf_printf(b,
                     "(void)v;\n(void)aux;\n}\n"
                     "TPC_EXPORT const int tpc_jacobian_shape[2] = "
