@@ -69,6 +69,7 @@ typedef struct lg {
     unsigned char *an;   /* the interpreter's anz: row path taken above */
     unsigned char *rw;   /* the adjoint-tangent row holds data */
     unsigned char *aw;   /* the adjoint holds data */
+    unsigned char *tw;   /* (h) the op's tau is read */
     const char *prefix;  /* of the block's chunk functions: lg_0, ... */
     tp_sbuf *br;         /* where row statements go (b, or the strips') */
     int W;               /* a row's width: P, or the strip's */
@@ -384,7 +385,7 @@ static void emit_forward(lg *g, uint32_t i)
         tp__sbuf_printf(g->b, "tp__value_%s(&y, %uu, %u, %uu, %uu, %uu);\n",
                         tp__op_fn_name(op), i, op, fl, u, t);
     if (!tn(g, i)) {
-        if (g->hm) {
+        if (g->hm && g->tw[i]) {
             if (strcmp(tp__op_fn_name(op), "GEN") == 0)
                 tp__sbuf_printf(g->b,
                                 "tpc_partials(v, aux, %uu, %u, %uu, %uu, "
@@ -598,7 +599,7 @@ static void emit_reverse_h(lg *g, uint32_t i)
 {
     const tp_tape *T = g->T;
     const unsigned op = T->opc[i];
-    char src[48], coef[32];
+    char src[48], coef[32], hd[32];
     tp__sbuf_printf(g->b, "{\nconst double a = adj[%u];\n", i);
     if (!strcmp(tp__op_fn_name(op), "GEN"))
         tp__sbuf_printf(g->b, "tpc_partials(v, aux, %uu, %u, %uu, %uu, &d);\n",
@@ -610,7 +611,11 @@ static void emit_reverse_h(lg *g, uint32_t i)
         /* a row structurally zero adds zeros to h, which is never -0 */
         snprintf(coef, sizeof coef, "tau[%u]", i);
         snprintf(src, sizeof src, "%c_(%u)", g->strips ? 'B' : 'A', i);
-        emit_hterm(g, g->br, "hh", coef, src);
+        if (g->strips) /* the strip's accumulator: the row after the last */
+            snprintf(hd, sizeof hd, "B_(%uu)", g->T->n_ops);
+        else
+            snprintf(hd, sizeof hd, "hh");
+        emit_hterm(g, g->br, hd, coef, src);
     }
     if (g->br == g->b)
         tp__sbuf_puts(g->b, "}\n");
@@ -754,12 +759,13 @@ static int lg_init(lg *g, const tp_tape *T, int first, int count, int P,
     g->prefix = prefix;
     if ((st = block_mask(T, first, count, &g->mask)) != TP_OK)
         return st;
-    g->need = calloc(T->n_ops, 4);
+    g->need = calloc(T->n_ops, 5);
     if (!g->need)
         return TP_ERR_NOMEM;
     g->an = g->need + T->n_ops;
     g->rw = g->an + T->n_ops;
     g->aw = g->rw + T->n_ops;
+    g->tw = g->aw + T->n_ops;
     return TP_OK;
 }
 
@@ -861,7 +867,8 @@ void tp__emit_blocks_common(int P, tp_sbuf *b)
 /* The strip's width for rows P wide, 0 for no strips. A strip's rows
  * are written out as 2-wide vectors (a few statements per row at these
  * widths, no call); strips need 2 n_ops W doubles of at, which holds
- * n_ops P, and 14 more to start both halves on a cache line. Measured
+ * n_ops P, 14 more to start both halves on a cache line and W for h's
+ * accumulator (the adjoint-tangent half's row n_ops). Measured
  * (section 13 of docs/benchmarks.md): 8 directions where there are 16
  * or more (and room for them), 4 below; wider strips, through the row
  * functions or written out, were slower at every N. */
@@ -869,7 +876,8 @@ static int strip_width(int P, uint32_t n_ops)
 {
     int W;
     for (W = P >= 16 ? 8 : 4; W >= 4; W -= 4)
-        if (P >= 2 * W && (size_t)n_ops * (size_t)(P - 2 * W) >= 14)
+        if (P >= 2 * W &&
+            (size_t)n_ops * (size_t)(P - 2 * W) >= 14 + (size_t)W)
             return W;
     return 0;
 }
@@ -889,6 +897,7 @@ static int emit_results(lg *g, int first, int count, bool rows, bool grads,
     for (i = 0; i < g->T->n_indep; i++) {
         const bool row = rows && i >= (uint32_t)first &&
                          i < (uint32_t)(first + count);
+        const size_t l0 = q.text.len;
         if (grads) {
             if (g->aw[i])
                 tp__sbuf_printf(&q.text, "gr[%u] = adj[%u];\n", i, i);
@@ -914,7 +923,8 @@ static int emit_results(lg *g, int first, int count, bool rows, bool grads,
                                 "memset(H + %u, 0, %d * sizeof(double));\n",
                                 i * (uint32_t)count, count);
         }
-        tp__seq_close(&q, false);
+        if (q.text.len != l0)
+            tp__seq_close(&q, false);
     }
     st = tp__seq_emit(&q, b, loops, NULL, NULL, &clo, &nc);
     free(clo);
@@ -997,6 +1007,27 @@ static int emit_zeros(lg *g, uint32_t ns, bool loops, tp_sbuf *b)
     return st;
 }
 
+/* The ops whose tau the block reads (tw): those on no rate whose row
+ * statement adds to h, and, below them, the active operands their taus
+ * are made of (ops on no rate too). */
+static void mark_taus(lg *g, uint32_t o)
+{
+    const tp_tape *T = g->T;
+    uint32_t i;
+    for (i = o + 1; i-- > T->first_active;) {
+        const unsigned fl = T->dep[i];
+        if (!g->need[i] || tn(g, i) ||
+            !(g->tw[i] || (g->aw[i] && g->an[i] && g->rw[i])))
+            continue;
+        g->tw[i] = 1;
+        if (!(fl & TP_DEP_UPASSIVE) && T->a0[i] >= T->first_active)
+            g->tw[T->a0[i]] = 1;
+        if (tp__op_kind(T->opc[i]) == TP_KIND_BINARY &&
+            !(fl & TP_DEP_TPASSIVE) && T->a1[i] >= T->first_active)
+            g->tw[T->a1[i]] = 1;
+    }
+}
+
 static void emit_calls(tp_sbuf *b, int k0, int k1, const char *args)
 {
     int k;
@@ -1010,7 +1041,7 @@ int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
     const uint32_t o = T->out_slot[out];
     const bool any = o >= T->first_active;
     lg g;
-    tp_seq q, r;
+    tp_seq q, r, qr, rr;
     uint32_t i;
     int nchunk = 0, k[5] = {0, 0, 0, 0, 0};
     int st = lg_init(&g, T, first, count, P, "lg", b);
@@ -1057,11 +1088,20 @@ int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
     }
     /* forward over the cone, then reverse from the output; in strips,
      * the values and adjoints (chunks k0 .. k1, k2 .. k3) apart from
-     * the rows (k1 .. k2, k3 .. k4), which run once per strip */
+     * the rows (k1 .. k2, k3 .. k4), which run once per strip. The
+     * reverse statements are collected first: which taus they read
+     * decides which the forward ones compute. */
     memset(&q, 0, sizeof q);
     memset(&r, 0, sizeof r);
+    memset(&qr, 0, sizeof qr);
+    memset(&rr, 0, sizeof rr);
     if (g.fh)
-        r.nstrips = (uint32_t)((count + g.W - 1) / g.W);
+        r.nstrips = rr.nstrips = (uint32_t)((count + g.W - 1) / g.W);
+    g.aw[o] = 1; /* seeded by the entry function */
+    for (i = o + 1; any && i-- > T->first_active;)
+        if (g.need[i] && g.aw[i])
+            phase_op(&g, &qr, g.strips ? &rr : NULL, true, i);
+    mark_taus(&g, o);
     for (i = T->first_active; any && i <= o; i++)
         if (g.need[i])
             phase_op(&g, &q, g.strips ? &r : NULL, false, i);
@@ -1070,20 +1110,16 @@ int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
     if (st == TP_OK && g.strips)
         st = phase_end(&g, &r, b, loops, &nchunk);
     k[2] = nchunk;
-    if (g.fh) /* phase_end cleared r */
-        r.nstrips = (uint32_t)((count + g.W - 1) / g.W);
-    g.aw[o] = 1; /* seeded by the entry function */
-    for (i = o + 1; st == TP_OK && any && i-- > T->first_active;)
-        if (g.need[i] && g.aw[i])
-            phase_op(&g, &q, g.strips ? &r : NULL, true, i);
     if (st == TP_OK)
-        st = phase_end(&g, &q, b, loops, &nchunk);
+        st = phase_end(&g, &qr, b, loops, &nchunk);
     k[3] = nchunk;
     if (st == TP_OK && g.strips)
-        st = phase_end(&g, &r, b, loops, &nchunk);
+        st = phase_end(&g, &rr, b, loops, &nchunk);
     k[4] = nchunk;
     tp__seq_free(&q);
     tp__seq_free(&r);
+    tp__seq_free(&qr);
+    tp__seq_free(&rr);
     if (st != TP_OK) {
         free(g.need);
         free(g.fh);
@@ -1128,10 +1164,11 @@ int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
             "const int w_ = %d - c_ < SW ? %d - c_ : SW;\n"
             "for (int k_ = c_; k_ < c_ + w_; k_++)\n"
             "    su_[(size_t)(%d + k_) * SW + (size_t)(k_ - c_)] = 1.0;\n"
-            "double hb_[SW];\nmemset(hb_, 0, sizeof hb_);\n",
-            (count + g.W - 1) / g.W, count, count, first);
-        emit_calls(b, k[1], k[2], "v, aux, su_, sb_, adj, tau, hb_, s_");
-        emit_calls(b, k[3], k[4], "v, aux, su_, sb_, adj, tau, hb_, s_");
+            "double *restrict hb_ = sb_ + (size_t)%uu * SW;\n"
+            "memset(hb_, 0, SW * sizeof(double));\n",
+            (count + g.W - 1) / g.W, count, count, first, T->n_ops);
+        emit_calls(b, k[1], k[2], "v, aux, su_, sb_, adj, tau, NULL, s_");
+        emit_calls(b, k[3], k[4], "v, aux, su_, sb_, adj, tau, NULL, s_");
         if (st == TP_OK)
             st = emit_results(&g, first, count, true, false, loops, b);
         if (st == TP_OK)
