@@ -85,7 +85,7 @@ void tp__lagrange_strips(tp_ws *ws, const double *x, const double *w, int n,
     /* at least a vector: a narrower width would never end */
     const uint32_t sv = width >= TP_LANES ? (uint32_t)(width / TP_LANES) : 1;
     double *st = ws->stan, *sa = ws->satan, *adj = ws->adj;
-    double *abar = ws->abar;
+    double *abar = ws->abar, *h = ws->lag_h; /* h: whole rows, n wide */
     tp_kx k = tp__kx(ws, 0, mask);
     uint32_t s0, i, lo, hi;
     int c;
@@ -124,6 +124,8 @@ void tp__lagrange_strips(tp_ws *ws, const double *x, const double *w, int n,
                     lo = hi = s0;
                 k.tan = st + TP_LANES * (size_t)(lo - s0);
                 k.atan = sa + TP_LANES * (size_t)(lo - s0);
+                if (h)
+                    k.h = h + TP_LANES * (size_t)lo;
                 k.pr = TP_LANES * (int)(hi - lo);
                 tp__k_rev2(&k, i, rec[i].op, rec[i].fl, rec[i].u, rec[i].t);
             }

@@ -235,6 +235,10 @@ struct tp_ws {
     double *d1, *d2;  /* [n_ops] Taylor coefficients */
     double *param;    /* [n_param] parameter values in use */
     double *hs;       /* [n_indep * P] scratch for Hessian columns */
+    /* [P] tp_lagrange_t's h accumulated by its sweeps (sweep_ops.h,
+     * tp__tau; zero between sweeps), and lag_h: hacc while those sweeps
+     * run (the kernels' x->h), else NULL */
+    double *hacc, *lag_h;
     double *g;        /* [n_indep] scratch for gradients */
     double *wout;     /* [n_out] scratch for output weights */
     bool passive_stale; /* v of the passive ops needs recomputing */
@@ -277,7 +281,7 @@ void tp__taylor2(tp_ws *ws, const double *x, const double *d, uint32_t end);
 /* The compiled Lagrange block of ws->cc at x: g[n_indep] and H (n_indep x
  * lcount), keeping the tangent rows to fwd1's invariant (forward.c). */
 void tp__lagrange_compiled(tp_ws *ws, const double *x, double *g,
-                           double *H);
+                           double *H, double *h);
 /* The compiled Jacobian block of ws->cc at x: the values and tangent rows
  * of every output's cone in ws, as tp__fwd1 with unit directions on
  * every independent leaves them for the outputs (forward.c). */
