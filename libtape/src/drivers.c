@@ -466,6 +466,21 @@ TP_INLINE uint64_t lagrange_values(const tp_ws *ws, int out, int n,
     return bad;
 }
 
+void tp__lagrange_h_begin(tp_ws *ws, const double *x, int n, bool timed)
+{
+    /* the taus of q (qd), of the rates (0: read by the ops on none of a
+     * chunk's rates) and of t (1) */
+    double *tau = ws->d1;
+    int j;
+    for (j = 0; j < n; j++) {
+        tau[j] = x[n + j];
+        tau[n + j] = 0.0;
+    }
+    if (timed)
+        tau[2 * n] = 1.0;
+    ws->lag_h = ws->hacc;
+}
+
 /* tp_lagrange_t by the interpreter's sweeps (its arguments checked, and
  * n, timed as it found them), out of line: the compiled route's call
  * then saves only the registers it uses itself. */
@@ -485,18 +500,7 @@ TP_NOINLINE static int lagrange_swept(tp_ws *ws, const double *x, int out,
         tp__fwd0(ws, x, end);
         tp__rev1(ws, w, end, ws->g);
     } else {
-        /* the sweeps gather h in hacc (sweep_ops.h, tp__tau): the taus
-         * of q (qd), of the rates (0: read by the ops on none of a
-         * chunk's rates) and of t (1) */
-        double *tau = ws->d1;
-        int j;
-        for (j = 0; j < n; j++) {
-            tau[j] = qd[j];
-            tau[n + j] = 0.0;
-        }
-        if (timed)
-            tau[2 * n] = 1.0;
-        ws->lag_h = ws->hacc;
+        tp__lagrange_h_begin(ws, x, n, timed);
     }
     /* more than one vector of rates in one chunk: each row swept over
      * the columns that can be non-zero in it alone (ranges.c) */

@@ -290,6 +290,13 @@ void tp__jacobian_compiled(tp_ws *ws, const double *x);
  * (ranges.c): unit directions on independents n .. 2n-1, n <= max_dirs,
  * for output ws->range_out, after tp__lagrange_ranges(ws, out, n, end). */
 void tp__lagrange_ranges(tp_ws *ws, int out, int n, uint32_t end);
+/* The Lagrange sweeps' h (sweep_ops.h, tp__tau) for the n rates of x
+ * (2n independents, + 1 when timed): the independents' taus, and
+ * ws->lag_h = ws->hacc, so that the next forward sweeps keep the taus of
+ * the ops on no rate and the reverse sweeps add their rows to hacc
+ * (drivers.c; the caller sets lag_h back to NULL and clears hacc). The
+ * ranges (tp__lagrange_ranges) hold for these sweeps only. */
+void tp__lagrange_h_begin(tp_ws *ws, const double *x, int n, bool timed);
 void tp__fwd1_ranged(tp_ws *ws, const double *x, int n, unsigned mask,
                      uint32_t end);
 void tp__rev2_ranged(tp_ws *ws, const double *w, int n, unsigned mask,
