@@ -10,13 +10,13 @@
  * + [b = c] q_k t), and
  * h_c = d/de dL/dqd_c (q + e qd, qd, t + e) takes dc_k = grad c_k . (qd, 1)
  * in place of c_k and qd_k t + q_k in place of q_k t, written out below
- * by hand. Every interpreter path of
- * tp_lagrange_t runs: one vector (n <= 4), the general and ranged sweeps
- * (n > 4), strips (n = 200, a workspace of 200 directions), and chunks
- * (workspaces of 3 directions: one vector, and of 8: the general
- * kernels over full rows). Every sweep must leave its adjoint-tangent
- * rows zero. h must agree with the closed form to
- * rounding, and the paths with each other bit for bit (M too).
+ * by hand. Every interpreter path of tp_lagrange_t runs: one vector
+ * (n <= 4), the ranged sweeps (n > 4), strips (n = 200, a workspace of
+ * 200 directions), and chunks (workspaces of 3 directions: one vector,
+ * and of 8: the general kernels over full rows). h must agree with the
+ * closed form to rounding on each, L, dL/dq, dL/dt and M bit for bit
+ * between them, and every sweep must leave its adjoint-tangent rows and
+ * flags zero (the next sweep relies on it).
  *
  * White-box: the reverse ranges of the ops on no rate that no op on a
  * rate reads must be empty (a rate-free op passes its row to no operand). */
