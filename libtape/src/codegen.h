@@ -15,8 +15,10 @@
  * as loops, codegen_loops.c; 5: the Lagrange block's rows in strips in
  * its own scratch, codegen_lagrange.c; 6: the strips' seeds and
  * copy-out; 7: the strips gated by the rows' column ranges, run from the
- * last to the first; 8: the Lagrange block writes h itself, from the
- * taus of the ops on no rate and their rows, and takes tau and h); part
+ * last to the first; 8: tp_kx's h (the Lagrange sweeps' h row,
+ * sweep_ops.h), and the Lagrange block writes h itself, from the taus
+ * of the ops on no rate and their rows, taking tau and h, and no longer
+ * writes the q's and t's rows of H); part
  * of the cache key (beside the source itself)
  * and checked on load, so that no object a former generator built is
  * loaded. */
