@@ -26,17 +26,6 @@
  *      by an op reaching fewer strips than a later writer, and rows of
  *      single rates, at 33 and 40 rates (5 strips; fewer are not
  *      gated; the 50-link chain above runs gated too).
- *   4. h from the ops on no rate (the block adds tau times their rows
- *      to h, where the row reached them, and passes no row below): a
- *      chain driven in time, 2N + 1 independents (q, qd, t), whose
- *      angles, lengths and positions are chains of ops on q and t alone
- *      several ops deep (sines of sums of sines, exponentials, quotients
- *      and square roots, the positions summed link by link), read by
- *      the rates' ops at several depths: L, dL/dq, dL/dt, M and h of
- *      tp_lagrange_t, bit for bit, straight-line and with loops, at 3
- *      rates (rows of 4, written out), 6 (rows of 8, row functions) and
- *      16 (strips of 4: 4 strips, gated) and with rows of 32 (strips of
- *      8: 2 strips).
  */
 #define _POSIX_C_SOURCE 200809L
 
@@ -150,74 +139,6 @@ static int rec_gates(tp_rec *r, void *user)
     return 0;
 }
 
-/* The driven chain of case 4: independents q (group 0), qd (group 1)
- * and t (group 2, the last). Link j's angle is q_j plus a drive
- * 0.3 sin(1.7 t + 0.1 j) and its length 1 + exp(0.2 s t) / (1 + c^2)
- * (s, c: the angle's sine and cosine), so the ops on q and t alone run
- * several deep before a rate reads them; the positions add up link by
- * link (a chain of ops on no rate as long as the tape), and the rates
- * meet them in the velocities, in w px and in sqrt(1 + w^2 py^2), and
- * t and q_j themselves in w t q_j. */
-static int rec_timed(tp_rec *r, void *user)
-{
-    const int N = *(const int *)user;
-    const tp_val t = tp_indep(r, 2 * N);
-    tp_val vx = tp_const(r, 0.0), vy = tp_const(r, 0.0);
-    tp_val px = tp_const(r, 0.0), py = tp_const(r, 0.0);
-    tp_val L = tp_const(r, 0.0);
-    int j;
-    for (j = 0; j < N; j++) {
-        const double m = 1.0 + 0.1 * (j % 7);
-        const tp_val th = tp_indep(r, j), w = tp_indep(r, N + j);
-        const tp_val arg = tp_addc(r, tp_mulc(r, t, 1.7), 0.1 * j);
-        const tp_val ph = tp_add(r, th, tp_mulc(r, tp_sin(r, arg), 0.3));
-        const tp_val s = tp_sin(r, ph), c = tp_cos(r, ph);
-        const tp_val len = tp_addc(
-            r,
-            tp_div(r, tp_exp(r, tp_mulc(r, tp_mul(r, s, t), 0.2)),
-                   tp_addc(r, tp_sqr(r, c), 1.0)),
-            1.0);
-        /* the angle's rate: w plus the drive's, 0.51 cos(arg) */
-        const tp_val om = tp_add(r, w, tp_mulc(r, tp_cos(r, arg), 0.51));
-        const tp_val hw = tp_mul(r, om, len);
-        vx = tp_sub(r, vx, tp_mul(r, hw, s));
-        vy = tp_add(r, vy, tp_mul(r, hw, c));
-        px = tp_add(r, px, tp_mul(r, len, s));
-        py = tp_sub(r, py, tp_mul(r, len, c));
-        L = tp_add(r, L,
-                   tp_sub(r, tp_mulc(r, tp_add(r, tp_sqr(r, vx), tp_sqr(r, vy)),
-                                     0.5 * m),
-                          tp_mulc(r, py, -9.81 * m)));
-        L = tp_add(r, L, tp_mulc(r, tp_mul(r, w, px), 0.05));
-        /* rates' ops reading t and q_j themselves: their rows reach the
-         * end of the sweep's terms */
-        L = tp_add(r, L, tp_mulc(r, tp_mul(r, tp_mul(r, w, t), th), 0.02));
-        if (j % 2 == 1)
-            L = tp_sub(r, L,
-                       tp_sqrt(r, tp_addc(r, tp_sqr(r, tp_mul(r, w, py)),
-                                          1.0)));
-    }
-    tp_output(r, "L", L);
-    tp_output(r, "x", px);
-    return 0;
-}
-
-static tp_tape *record_timed(int N)
-{
-    unsigned char group[129];
-    tp_rec *r = NULL;
-    tp_tape *t = NULL;
-    int i;
-    for (i = 0; i <= 2 * N; i++)
-        group[i] = (unsigned char)(i < N ? 0 : i < 2 * N ? 1 : 2);
-    if (tp_recorder_new(&r, 2 * N + 1, group, NULL) != TP_OK ||
-        tp_rec_run(r, NULL, rec_timed, &N) != TP_OK ||
-        tp_recorder_finish(r, &t) != TP_OK)
-        t = NULL;
-    tp_rec_free(&r);
-    return t;
-}
-
 /* a and b equal bit for bit but for a zero's sign (st_same_bits), n
  * doubles; the first difference named. */
 static void bitwise(const double *a, const double *b, int n, const char *what,
@@ -256,11 +177,11 @@ static int has_strips(const tp_compile_info *info)
 
 /* The Lagrange block of t (2N independents, m outputs) compiled with
  * max_dirs dirs against the interpreter at `states` random states. */
-static void against_interpreter_t(tp_tape *t, int N, int m, int dirs,
-                                  int states, const char *dir,
-                                  const char *what, int timed, int straight)
+static void against_interpreter(tp_tape *t, int N, int m, int dirs,
+                                int states, const char *dir,
+                                const char *what)
 {
-    const int n = 2 * N + timed;
+    const int n = 2 * N;
     tp_compile_opts o;
     tp_compile_info info;
     tp_compiled *c = NULL;
@@ -277,7 +198,6 @@ static void against_interpreter_t(tp_tape *t, int N, int m, int dirs,
     o.lagrange = 1;
     o.lagrange_out = 0;
     o.sweeps = TP_SWEEP_LAGRANGE;
-    o.straight = straight;
     CHECK_INT(tp_compile(t, &o, &c, &info), TP_OK);
     if (!c) {
         fprintf(stderr, "%s: tp_compile: %s\n", what, info.msg);
@@ -291,9 +211,9 @@ static void against_interpreter_t(tp_tape *t, int N, int m, int dirs,
     CHECK_INT(tp_ws_new(&w[0], t, dirs, NULL), TP_OK);
     CHECK_INT(tp_ws_new(&w[1], t, dirs, NULL), TP_OK);
     CHECK_INT(tp_ws_set_compiled(w[1], c), TP_OK);
-    /* per path: L, dL/dq, dL/dt, M, h, then the Jacobian and the
-     * gradient of the weighted outputs (interpreted, after the block) */
-    per = 2 + (size_t)N + (size_t)N * N + N + (size_t)m * n + n;
+    /* per path: L, dL/dq, M, h, then the Jacobian and the gradient of the
+     * weighted outputs (interpreted, after the block) */
+    per = 1 + (size_t)N + (size_t)N * N + N + (size_t)m * n + n;
     buf = calloc(2 * per + (size_t)n + m, sizeof *buf);
     if (!buf) {
         CHECK(buf != NULL);
@@ -306,14 +226,12 @@ static void against_interpreter_t(tp_tape *t, int N, int m, int dirs,
             x[i] = -1.5 + 3.0 * rng_unit(&g);
             x[N + i] = -1.0 + 2.0 * rng_unit(&g);
         }
-        if (timed)
-            x[2 * N] = -2.0 + 4.0 * rng_unit(&g);
         for (i = 0; i < m; i++)
             wt[i] = 0.5 + rng_unit(&g);
         for (k = 0; k < 2; k++) {
-            double *L = buf + k * per, *gq = L + 1, *dt = gq + N,
-                   *M = dt + 1, *h = M + N * N, *J = h + N, *gr = J + m * n;
-            CHECK_INT(tp_lagrange_t(w[k], x, 0, L, gq, dt, M, h), TP_OK);
+            double *L = buf + k * per, *gq = L + 1, *M = gq + N, *h = M + N * N,
+                   *J = h + N, *gr = J + m * n;
+            CHECK_INT(tp_lagrange(w[k], x, 0, L, gq, M, h), TP_OK);
             CHECK_INT(tp_jacobian(w[k], x, 0, n, NULL, J), TP_OK);
             CHECK_INT(tp_vjp(w[k], x, wt, NULL, gr), TP_OK);
         }
@@ -323,13 +241,6 @@ static void against_interpreter_t(tp_tape *t, int N, int m, int dirs,
     tp_ws_free(&w[0]);
     tp_ws_free(&w[1]);
     tp_compiled_free(&c);
-}
-
-static void against_interpreter(tp_tape *t, int N, int m, int dirs,
-                                int states, const char *dir,
-                                const char *what)
-{
-    against_interpreter_t(t, N, m, dirs, states, dir, what, 0, 0);
 }
 
 static void chains(const char *dir)
@@ -369,25 +280,6 @@ static void gates_tape(const char *dir)
     }
 }
 
-static void timed_tape(const char *dir)
-{
-    static const int Ns[3] = {3, 6, 16};
-    int k, straight;
-    for (k = 0; k < 3; k++) {
-        tp_tape *t = record_timed(Ns[k]);
-        CHECK(t != NULL);
-        if (!t)
-            continue;
-        for (straight = 0; straight < 2; straight++)
-            against_interpreter_t(t, Ns[k], 2, Ns[k], 3, dir, "timed chain",
-                                  1, straight);
-        if (Ns[k] == 16) /* rows of 32: 2 strips of 8 */
-            against_interpreter_t(t, Ns[k], 2, 2 * Ns[k], 2, dir,
-                                  "timed chain", 1, 0);
-        tp_tape_free(&t);
-    }
-}
-
 int main(void)
 {
     char dir[] = "/tmp/test-compiled-strips-XXXXXX";
@@ -399,7 +291,6 @@ int main(void)
     chains(dir);
     random_tape(dir);
     gates_tape(dir);
-    timed_tape(dir);
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
     if (system(cmd) != 0)
         fprintf(stderr, "could not remove %s\n", dir);

@@ -15,14 +15,10 @@
  * as loops, codegen_loops.c; 5: the Lagrange block's rows in strips in
  * its own scratch, codegen_lagrange.c; 6: the strips' seeds and
  * copy-out; 7: the strips gated by the rows' column ranges, run from the
- * last to the first; 8: tp_kx's h (the Lagrange sweeps' h row,
- * sweep_ops.h), and the Lagrange block writes h itself, from the taus
- * of the ops on no rate and their rows, taking tau and h, and no longer
- * writes the q's and t's rows of H); part
- * of the cache key (beside the source itself)
+ * last to the first); part of the cache key (beside the source itself)
  * and checked on load, so that no object a former generator built is
  * loaded. */
-#define TP_CODEGEN_FORMAT 8
+#define TP_CODEGEN_FORMAT 7
 
 /* A growing string; after a failed allocation `failed` is set and further
  * appends do nothing. */
@@ -64,14 +60,10 @@ int tp__emit_c(const tp_tape *T, int P, int lagrange_out, unsigned sweeps,
 void tp__emit_blocks_common(int P, tp_sbuf *b);
 
 /* The Lagrange block of output out (codegen_lagrange.c): the function
- * tpc_lagrange(v, aux, tan, at, adj, tau, g, H, h) giving the output's
- * gradient g, the rates' rows of its Hessian columns (rows first ..
- * first + count - 1 of H, n_indep x count: M) for unit directions on the
- * rates, independents first .. first + count - 1, and h_c = sum_j qd_j
- * d2L/(dq_j dqd_c) (+ d2L/(dt dqd_c)) from the ops on no rate
- * (libtape.md), rows P wide; tau: n_ops doubles of scratch. first must
- * be count and n_indep 2 count (+ 1 for the time): else TP_ERR_SIZE, as
- * when the block is not made of whole dependency groups. */
+ * tpc_lagrange(v, aux, tan, at, adj, g, H) giving the output's gradient g
+ * and its Hessian columns H (n_indep x count) for unit directions on the
+ * independents first .. first + count - 1, rows P wide. TP_ERR_SIZE when
+ * the block is not made of whole dependency groups. */
 int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
                       int P, bool loops, tp_sbuf *b);
 
@@ -174,8 +166,8 @@ uint32_t tp__outputs_cone(const tp_tape *T, unsigned char *need);
 const char *tp__op_fn_name(unsigned op);
 
 typedef void (*tp_lagrange_fn)(double *v, double *aux, double *tan,
-                               double *at, double *adj, double *tau,
-                               double *g, double *H, double *h);
+                               double *at, double *adj, double *g,
+                               double *H);
 typedef void (*tp_jacobian_fn)(double *v, double *aux, double *tan);
 typedef void (*tp_taylor2_fn)(double *v, double *aux, double *d1,
                               double *d2, const double *dir);

@@ -21,19 +21,6 @@
  * loads them), writes values of the cone into v and aux, tangent rows
  * into tan (only rows of ops depending on a seeded group, as a forward
  * sweep with that mask would), and uses at and adj as scratch of its own.
- *
- * h (the Lagrange block, libtape.md): the ops on no rate form the q
- * and t side of a cut. Below it every tangent in the rates' directions
- * is zero, so the rows there propagate linearly to q and t, and
- * h = sum_j qd_j A(q_j) + A(t) is the sum over the cut of tau_i A(i),
- * tau_i the op's first-order tangent along (qd on q, 1 on t). So the
- * forward code computes tau_i (into tau, by the formula of the op's fwd1
- * row kernel), an op on no rate reached by a row adds tau_i times it to
- * the accumulator hh instead of passing it to its operands (which then
- * get no row from it), and the end of the sweep adds qd_j A(q_j) and
- * A(t) for the rows the rates' ops wrote there. The interpreter does the
- * same sums in the same order (sweep_ops.h): h is equal bit for bit. The
- * q's and t's rows of the Hessian columns are no longer written.
  * Rows are P (a multiple of TP_LANES) wide: up to ROWS_UNROLL written out
  * element by element, wider ones through small row functions.
  *
@@ -69,7 +56,6 @@ typedef struct lg {
     unsigned char *an;   /* the interpreter's anz: row path taken above */
     unsigned char *rw;   /* the adjoint-tangent row holds data */
     unsigned char *aw;   /* the adjoint holds data */
-    unsigned char *tw;   /* (h) the op's tau is read */
     const char *prefix;  /* of the block's chunk functions: lg_0, ... */
     tp_sbuf *br;         /* where row statements go (b, or the strips') */
     int W;               /* a row's width: P, or the strip's */
@@ -82,14 +68,6 @@ typedef struct lg {
     uint32_t *fh, *rh, *setter, *first_w; /* first_w: its op */
     tp_seq *rs;
     uint32_t cur; /* the op being written */
-    /* The Lagrange block's h (lagrange_h): the ops on no seeded group
-     * carry tau, their first-order tangent along (qd on q, 1 on t), and
-     * add tau times their adjoint-tangent row to h instead of passing
-     * the row to their operands. nq: the q's (independents 0 .. nq - 1,
-     * whose rates are nq .. 2 nq - 1), tslot: the time's slot (or
-     * TP_NO_SLOT). */
-    bool hm;
-    uint32_t nq, tslot;
 } lg;
 
 /* One term of a row update: coef * (row src). */
@@ -162,29 +140,6 @@ static void emit_row(lg *g, char kind, uint32_t d, bool set, int nt,
         tp__sbuf_puts(b, ");\n");
     }
     tp__sbuf_puts(b, "}\n");
-}
-
-/* h[k] = h[k] + coef * src[k] over the block's columns (the strip's, in
- * strips): dst the accumulator's name, src a row expression; the same
- * vector statements as a row update of one term. */
-static void emit_hterm(const lg *g, tp_sbuf *b, const char *dst,
-                       const char *coef, const char *src)
-{
-    int k;
-    if (g->strips) {
-        tp__sbuf_printf(b, "TPC_R1a(%s, (%s), (%s));\n", dst, coef, src);
-    } else if (g->W <= ROWS_UNROLL) {
-        tp__sbuf_printf(b, "{\nconst double c0 = %s; const double *s0 = %s;\n",
-                        coef, src);
-        for (k = 0; k < g->W; k += 2)
-            tp__sbuf_printf(b,
-                            "tpc_st(%s + %d, tpc_ld(%s + %d) + (c0 * "
-                            "tpc_ld(s0 + %d)));\n",
-                            dst, k, dst, k, k);
-        tp__sbuf_puts(b, "}\n");
-    } else {
-        tp__sbuf_printf(b, "tpr_1a(%s, %s, %s);\n", dst, coef, src);
-    }
 }
 
 /* A strip's row statements, d (= or +=) c0 s0 (+ c1 s1 (+ c2 s2)) over
@@ -296,78 +251,6 @@ static void row_to(lg *g, uint32_t w, int nt, const term *t)
 
 /* ---- forward ----------------------------------------------------------- */
 
-/* The tau of slot s as an expression: q_j's is qd_j (the leaf v[nq + j]),
- * the time's 1.0, an op's tau[s]. */
-static void tau_of(const lg *g, uint32_t s, char *e, size_t n)
-{
-    if (s < g->nq)
-        snprintf(e, n, "v[%u]", g->nq + s);
-    else if (s == g->tslot)
-        snprintf(e, n, "1.0");
-    else
-        snprintf(e, n, "tau[%u]", s);
-}
-
-/* tau of op i, on no seeded group: the formula of its fwd1 row kernel
- * (sweep_ops.h) with the rows replaced by the operands' taus, term for
- * term (a passive operand's term left out as there; GEN's binary kernel
- * keeps both terms, a passive operand's tau being zero). */
-static void emit_tau(lg *g, uint32_t i)
-{
-    const tp_tape *T = g->T;
-    const unsigned op = T->opc[i], fl = T->dep[i];
-    const uint32_t u = T->a0[i], t = T->a1[i];
-    const bool up = fl & TP_DEP_UPASSIVE, tpas = fl & TP_DEP_TPASSIVE;
-    char tu[32] = "0.0", tt[32] = "0.0";
-    tp_sbuf *b = g->b;
-    if (!up)
-        tau_of(g, u, tu, sizeof tu);
-    if (tp__op_kind(op) == TP_KIND_BINARY && !tpas)
-        tau_of(g, t, tt, sizeof tt);
-    tp__sbuf_printf(b, "tau[%u] = ", i);
-    switch (op) {
-    case TP_OP_ADD:
-        if (tpas)
-            tp__sbuf_printf(b, "%s;\n", tu);
-        else if (up)
-            tp__sbuf_printf(b, "%s;\n", tt);
-        else
-            tp__sbuf_printf(b, "%s + %s;\n", tu, tt);
-        return;
-    case TP_OP_SUB:
-        if (tpas)
-            tp__sbuf_printf(b, "%s;\n", tu);
-        else if (up)
-            tp__sbuf_printf(b, "-1.0 * %s;\n", tt);
-        else
-            tp__sbuf_printf(b, "%s - %s;\n", tu, tt);
-        return;
-    case TP_OP_MUL:
-        if (tpas)
-            tp__sbuf_printf(b, "v[%u] * %s;\n", t, tu);
-        else if (up)
-            tp__sbuf_printf(b, "v[%u] * %s;\n", u, tt);
-        else
-            tp__sbuf_printf(b, "v[%u] * %s + v[%u] * %s;\n", t, tu, u, tt);
-        return;
-    case TP_OP_NEG:
-    case TP_OP_CSUB: tp__sbuf_printf(b, "-1.0 * %s;\n", tu); return;
-    case TP_OP_ADDC: tp__sbuf_printf(b, "1.0 * %s;\n", tu); return;
-    case TP_OP_MULC: tp__sbuf_printf(b, "K[%u] * %s;\n", t, tu); return;
-    case TP_OP_SQR:
-        tp__sbuf_printf(b, "(2.0 * v[%u]) * %s;\n", u, tu);
-        return;
-    case TP_OP_SIN: tp__sbuf_printf(b, "aux[%u] * %s;\n", i, tu); return;
-    case TP_OP_COS: tp__sbuf_printf(b, "(-aux[%u]) * %s;\n", i, tu); return;
-    default: break;
-    }
-    /* GEN: d holds the partials (emit_forward) */
-    if (tp__op_kind(op) == TP_KIND_BINARY)
-        tp__sbuf_printf(b, "d.fu * %s + d.ft * %s;\n", tu, tt);
-    else
-        tp__sbuf_printf(b, "d.fu * %s;\n", tu);
-}
-
 static void emit_forward(lg *g, uint32_t i)
 {
     const tp_tape *T = g->T;
@@ -384,17 +267,8 @@ static void emit_forward(lg *g, uint32_t i)
     else
         tp__sbuf_printf(g->b, "tp__value_%s(&y, %uu, %u, %uu, %uu, %uu);\n",
                         tp__op_fn_name(op), i, op, fl, u, t);
-    if (!tn(g, i)) {
-        if (g->hm && g->tw[i]) {
-            if (strcmp(tp__op_fn_name(op), "GEN") == 0)
-                tp__sbuf_printf(g->b,
-                                "tpc_partials(v, aux, %uu, %u, %uu, %uu, "
-                                "&d);\n",
-                                i, op, u, t);
-            emit_tau(g, i);
-        }
+    if (!tn(g, i))
         return;
-    }
     /* the first partials as expressions */
     switch (op) {
     case TP_OP_ADD: strcpy(cu, "1.0"); strcpy(ct, "1.0"); break;
@@ -592,35 +466,6 @@ static void emit_rows(lg *g, uint32_t i, bool second)
     }
 }
 
-/* Op i on no seeded group, in the Lagrange block's h: its scalar
- * adjoint (tp__adj1_*), and where a row reached it, h += tau_i times its
- * row (the row is not passed on: the operands' rows stay as they are). */
-static void emit_reverse_h(lg *g, uint32_t i)
-{
-    const tp_tape *T = g->T;
-    const unsigned op = T->opc[i];
-    char src[48], coef[32], hd[32];
-    tp__sbuf_printf(g->b, "{\nconst double a = adj[%u];\n", i);
-    if (!strcmp(tp__op_fn_name(op), "GEN"))
-        tp__sbuf_printf(g->b, "tpc_partials(v, aux, %uu, %u, %uu, %uu, &d);\n",
-                        i, op, T->a0[i], T->a1[i]);
-    emit_adjoint(g, i, false);
-    if (g->br != g->b)
-        tp__sbuf_puts(g->b, "}\n");
-    if (g->an[i] && g->rw[i]) {
-        /* a row structurally zero adds zeros to h, which is never -0 */
-        snprintf(coef, sizeof coef, "tau[%u]", i);
-        snprintf(src, sizeof src, "%c_(%u)", g->strips ? 'B' : 'A', i);
-        if (g->strips) /* the strip's accumulator: the row after the last */
-            snprintf(hd, sizeof hd, "B_(%uu)", g->T->n_ops);
-        else
-            snprintf(hd, sizeof hd, "hh");
-        emit_hterm(g, g->br, hd, coef, src);
-    }
-    if (g->br == g->b)
-        tp__sbuf_puts(g->b, "}\n");
-}
-
 static void emit_reverse(lg *g, uint32_t i)
 {
     const tp_tape *T = g->T;
@@ -631,10 +476,6 @@ static void emit_reverse(lg *g, uint32_t i)
     size_t at0;
     if (!g->aw[i])
         return; /* nothing reached it */
-    if (g->hm && !second) {
-        emit_reverse_h(g, i);
-        return;
-    }
     tp__sbuf_printf(g->b, "{\nconst double a = adj[%u];\n", i);
     if (gen)
         tp__sbuf_printf(g->b, "tpc_partials(v, aux, %uu, %u, %uu, %uu, &d);\n",
@@ -759,13 +600,12 @@ static int lg_init(lg *g, const tp_tape *T, int first, int count, int P,
     g->prefix = prefix;
     if ((st = block_mask(T, first, count, &g->mask)) != TP_OK)
         return st;
-    g->need = calloc(T->n_ops, 5);
+    g->need = calloc(T->n_ops, 4);
     if (!g->need)
         return TP_ERR_NOMEM;
     g->an = g->need + T->n_ops;
     g->rw = g->an + T->n_ops;
     g->aw = g->rw + T->n_ops;
-    g->tw = g->aw + T->n_ops;
     return TP_OK;
 }
 
@@ -856,19 +696,16 @@ void tp__emit_blocks_common(int P, tp_sbuf *b)
                   "#define B_(s) (at + (size_t)(s) * SW)\n"
                   "#define LG_ARGS double *restrict v, double *restrict aux, "
                   "double *restrict tan, double *restrict at, "
-                  "double *restrict adj, double *restrict tau, "
-                  "double *restrict hh, int s_\n"
+                  "double *restrict adj, int s_\n"
                   "#define LG_BEGIN tp_kx y; tp_partials d; "
                   "memset(&y, 0, sizeof y); y.K = K; y.v = v; y.aux = aux; "
-                  "(void)d; (void)tan; (void)at; (void)adj; (void)tau; "
-                  "(void)hh; (void)s_;\n");
+                  "(void)d; (void)tan; (void)at; (void)adj; (void)s_;\n");
 }
 
 /* The strip's width for rows P wide, 0 for no strips. A strip's rows
  * are written out as 2-wide vectors (a few statements per row at these
  * widths, no call); strips need 2 n_ops W doubles of at, which holds
- * n_ops P, 14 more to start both halves on a cache line and W for h's
- * accumulator (the adjoint-tangent half's row n_ops). Measured
+ * n_ops P, and 14 more to start both halves on a cache line. Measured
  * (section 13 of docs/benchmarks.md): 8 directions where there are 16
  * or more (and room for them), 4 below; wider strips, through the row
  * functions or written out, were slower at every N. */
@@ -876,18 +713,16 @@ static int strip_width(int P, uint32_t n_ops)
 {
     int W;
     for (W = P >= 16 ? 8 : 4; W >= 4; W -= 4)
-        if (P >= 2 * W &&
-            (size_t)n_ops * (size_t)(P - 2 * W) >= 14 + (size_t)W)
+        if (P >= 2 * W && (size_t)n_ops * (size_t)(P - 2 * W) >= 14)
             return W;
     return 0;
 }
 
-/* The copy-out of the rates' rows (strips: this strip's columns c_ ..
- * c_ + w_ - 1 of them; the q's and the time's rows are summed into h
- * instead, emit_hend) and, once, every independent's adjoint: a
- * statement each, repeated runs as loops. */
-static int emit_results(lg *g, int first, int count, bool rows, bool grads,
-                        bool loops, tp_sbuf *b)
+/* The copy-out of the independents' rows (strips: this strip's columns
+ * c_ .. c_ + w_ - 1 of them) and, once, their adjoints: a statement
+ * each, repeated runs as loops. */
+static int emit_results(lg *g, int count, bool rows, bool grads, bool loops,
+                        tp_sbuf *b)
 {
     tp_seq q;
     uint32_t i, *clo = NULL;
@@ -895,16 +730,13 @@ static int emit_results(lg *g, int first, int count, bool rows, bool grads,
     int st;
     memset(&q, 0, sizeof q);
     for (i = 0; i < g->T->n_indep; i++) {
-        const bool row = rows && i >= (uint32_t)first &&
-                         i < (uint32_t)(first + count);
-        const size_t l0 = q.text.len;
         if (grads) {
             if (g->aw[i])
                 tp__sbuf_printf(&q.text, "gr[%u] = adj[%u];\n", i, i);
             else
                 tp__sbuf_printf(&q.text, "gr[%u] = 0.0;\n", i);
         }
-        if (row && g->strips) {
+        if (rows && g->strips) {
             if (g->rw[i])
                 tp__sbuf_printf(&q.text,
                                 "tpc_out(H + %u + c_, sb_ + (size_t)%u * SW, "
@@ -913,7 +745,7 @@ static int emit_results(lg *g, int first, int count, bool rows, bool grads,
             else
                 tp__sbuf_printf(&q.text, "tpc_out0(H + %u + c_, w_);\n",
                                 i * (uint32_t)count);
-        } else if (row) {
+        } else if (rows) {
             if (g->rw[i])
                 tp__sbuf_printf(&q.text,
                                 "memcpy(H + %u, A_(%u), %d * sizeof(double));\n",
@@ -923,41 +755,6 @@ static int emit_results(lg *g, int first, int count, bool rows, bool grads,
                                 "memset(H + %u, 0, %d * sizeof(double));\n",
                                 i * (uint32_t)count, count);
         }
-        if (q.text.len != l0)
-            tp__seq_close(&q, false);
-    }
-    st = tp__seq_emit(&q, b, loops, NULL, NULL, &clo, &nc);
-    free(clo);
-    tp__seq_free(&q);
-    return st;
-}
-
-/* The end of the sweep for h (lagrange_h), into the accumulator dst
- * (hh_ or, in strips, hb_): h += qd_j times q_j's row for j ascending,
- * then + the time's row. A row never written is a zero row, whose terms
- * leave h as it is (h starts at +0.0, so it is never -0). A statement
- * each, repeated runs as loops. */
-static int emit_hend(lg *g, const char *dst, bool loops, tp_sbuf *b)
-{
-    tp_seq q;
-    uint32_t j, *clo = NULL;
-    unsigned nc = 0;
-    char coef[32], src[64];
-    int st;
-    memset(&q, 0, sizeof q);
-    for (j = 0; j <= g->nq; j++) {
-        const uint32_t s = j < g->nq ? j : g->tslot;
-        if (s == TP_NO_SLOT || !g->rw[s])
-            continue;
-        if (j < g->nq)
-            snprintf(coef, sizeof coef, "v[%u]", g->nq + j);
-        else
-            snprintf(coef, sizeof coef, "1.0");
-        if (g->strips)
-            snprintf(src, sizeof src, "sb_ + (size_t)%u * SW", s);
-        else
-            snprintf(src, sizeof src, "A_(%u)", s);
-        emit_hterm(g, &q.text, dst, coef, src);
         tp__seq_close(&q, false);
     }
     st = tp__seq_emit(&q, b, loops, NULL, NULL, &clo, &nc);
@@ -1007,27 +804,6 @@ static int emit_zeros(lg *g, uint32_t ns, bool loops, tp_sbuf *b)
     return st;
 }
 
-/* The ops whose tau the block reads (tw): those on no rate whose row
- * statement adds to h, and, below them, the active operands their taus
- * are made of (ops on no rate too). */
-static void mark_taus(lg *g, uint32_t o)
-{
-    const tp_tape *T = g->T;
-    uint32_t i;
-    for (i = o + 1; i-- > T->first_active;) {
-        const unsigned fl = T->dep[i];
-        if (!g->need[i] || tn(g, i) ||
-            !(g->tw[i] || (g->aw[i] && g->an[i] && g->rw[i])))
-            continue;
-        g->tw[i] = 1;
-        if (!(fl & TP_DEP_UPASSIVE) && T->a0[i] >= T->first_active)
-            g->tw[T->a0[i]] = 1;
-        if (tp__op_kind(T->opc[i]) == TP_KIND_BINARY &&
-            !(fl & TP_DEP_TPASSIVE) && T->a1[i] >= T->first_active)
-            g->tw[T->a1[i]] = 1;
-    }
-}
-
 static void emit_calls(tp_sbuf *b, int k0, int k1, const char *args)
 {
     int k;
@@ -1041,20 +817,12 @@ int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
     const uint32_t o = T->out_slot[out];
     const bool any = o >= T->first_active;
     lg g;
-    tp_seq q, r, qr, rr;
+    tp_seq q, r;
     uint32_t i;
     int nchunk = 0, k[5] = {0, 0, 0, 0, 0};
     int st = lg_init(&g, T, first, count, P, "lg", b);
     if (st != TP_OK)
         return st;
-    if (first != count || T->n_indep < 2 * (uint32_t)count ||
-        T->n_indep > 2 * (uint32_t)count + 1) {
-        free(g.need); /* h needs the q's, the rates and the time */
-        return TP_ERR_SIZE;
-    }
-    g.hm = true;
-    g.nq = (uint32_t)first;
-    g.tslot = T->n_indep % 2 ? T->n_indep - 1 : TP_NO_SLOT;
     g.W = strip_width(P, T->n_ops);
     g.strips = g.W > 0;
     if (!g.strips)
@@ -1088,20 +856,11 @@ int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
     }
     /* forward over the cone, then reverse from the output; in strips,
      * the values and adjoints (chunks k0 .. k1, k2 .. k3) apart from
-     * the rows (k1 .. k2, k3 .. k4), which run once per strip. The
-     * reverse statements are collected first: which taus they read
-     * decides which the forward ones compute. */
+     * the rows (k1 .. k2, k3 .. k4), which run once per strip */
     memset(&q, 0, sizeof q);
     memset(&r, 0, sizeof r);
-    memset(&qr, 0, sizeof qr);
-    memset(&rr, 0, sizeof rr);
     if (g.fh)
-        r.nstrips = rr.nstrips = (uint32_t)((count + g.W - 1) / g.W);
-    g.aw[o] = 1; /* seeded by the entry function */
-    for (i = o + 1; any && i-- > T->first_active;)
-        if (g.need[i] && g.aw[i])
-            phase_op(&g, &qr, g.strips ? &rr : NULL, true, i);
-    mark_taus(&g, o);
+        r.nstrips = (uint32_t)((count + g.W - 1) / g.W);
     for (i = T->first_active; any && i <= o; i++)
         if (g.need[i])
             phase_op(&g, &q, g.strips ? &r : NULL, false, i);
@@ -1110,16 +869,20 @@ int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
     if (st == TP_OK && g.strips)
         st = phase_end(&g, &r, b, loops, &nchunk);
     k[2] = nchunk;
+    if (g.fh) /* phase_end cleared r */
+        r.nstrips = (uint32_t)((count + g.W - 1) / g.W);
+    g.aw[o] = 1; /* seeded by the entry function */
+    for (i = o + 1; st == TP_OK && any && i-- > T->first_active;)
+        if (g.need[i] && g.aw[i])
+            phase_op(&g, &q, g.strips ? &r : NULL, true, i);
     if (st == TP_OK)
-        st = phase_end(&g, &qr, b, loops, &nchunk);
+        st = phase_end(&g, &q, b, loops, &nchunk);
     k[3] = nchunk;
     if (st == TP_OK && g.strips)
-        st = phase_end(&g, &rr, b, loops, &nchunk);
+        st = phase_end(&g, &r, b, loops, &nchunk);
     k[4] = nchunk;
     tp__seq_free(&q);
     tp__seq_free(&r);
-    tp__seq_free(&qr);
-    tp__seq_free(&rr);
     if (st != TP_OK) {
         free(g.need);
         free(g.fh);
@@ -1129,22 +892,17 @@ int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
                      "TPC_EXPORT void tpc_lagrange(double *restrict v, "
                      "double *restrict aux, double *restrict tan, "
                      "double *restrict at, double *restrict adj, "
-                     "double *restrict tau, double *restrict gr, "
-                     "double *restrict H, double *restrict h)\n{\n");
+                     "double *restrict gr, double *restrict H)\n{\n");
     if (!g.strips) {
-        tp__sbuf_puts(b, "double hh_[PW];\nmemset(hh_, 0, sizeof hh_);\n");
         emit_seeds(b, first, count, P);
         tp__sbuf_printf(b, "adj[%u] = 1.0;\n", o);
-        emit_calls(b, 0, k[4], "v, aux, tan, at, adj, tau, hh_, 0");
-        st = emit_results(&g, first, count, true, true, loops, b);
-        if (st == TP_OK)
-            st = emit_hend(&g, "hh_", loops, b);
-        tp__sbuf_printf(b, "memcpy(h, hh_, %d * sizeof(double));\n", count);
+        emit_calls(b, 0, k[4], "v, aux, tan, at, adj, 0");
+        st = emit_results(&g, count, true, true, loops, b);
     } else {
         tp__sbuf_printf(b, "adj[%u] = 1.0;\n", o);
-        emit_calls(b, k[0], k[1], "v, aux, tan, at, adj, tau, NULL, 0");
-        emit_calls(b, k[2], k[3], "v, aux, tan, at, adj, tau, NULL, 0");
-        st = emit_results(&g, first, count, false, true, loops, b);
+        emit_calls(b, k[0], k[1], "v, aux, tan, at, adj, 0");
+        emit_calls(b, k[2], k[3], "v, aux, tan, at, adj, 0");
+        st = emit_results(&g, count, false, true, loops, b);
         tp__sbuf_printf(b,
                         "double *restrict su_ = tpc_line(at), *restrict sb_ "
                         "= tpc_line(su_ + (size_t)%uu * SW);\n"
@@ -1163,17 +921,12 @@ int tp__emit_lagrange(const tp_tape *T, int out, int first, int count,
             "const int c_ = s_ * SW;\n"
             "const int w_ = %d - c_ < SW ? %d - c_ : SW;\n"
             "for (int k_ = c_; k_ < c_ + w_; k_++)\n"
-            "    su_[(size_t)(%d + k_) * SW + (size_t)(k_ - c_)] = 1.0;\n"
-            "double *restrict hb_ = sb_ + (size_t)%uu * SW;\n"
-            "memset(hb_, 0, SW * sizeof(double));\n",
-            (count + g.W - 1) / g.W, count, count, first, T->n_ops);
-        emit_calls(b, k[1], k[2], "v, aux, su_, sb_, adj, tau, NULL, s_");
-        emit_calls(b, k[3], k[4], "v, aux, su_, sb_, adj, tau, NULL, s_");
+            "    su_[(size_t)(%d + k_) * SW + (size_t)(k_ - c_)] = 1.0;\n",
+            (count + g.W - 1) / g.W, count, count, first);
+        emit_calls(b, k[1], k[2], "v, aux, su_, sb_, adj, s_");
+        emit_calls(b, k[3], k[4], "v, aux, su_, sb_, adj, s_");
         if (st == TP_OK)
-            st = emit_results(&g, first, count, true, false, loops, b);
-        if (st == TP_OK)
-            st = emit_hend(&g, "hb_", loops, b);
-        tp__sbuf_puts(b, "memcpy(h + c_, hb_, (size_t)w_ * sizeof(double));\n");
+            st = emit_results(&g, count, true, false, loops, b);
         /* the seed rows zero again for the next strip's */
         tp__sbuf_printf(
             b,
@@ -1223,8 +976,7 @@ int tp__emit_jacobian(const tp_tape *T, int P, bool loops, tp_sbuf *b)
                      "double *restrict aux, double *restrict tan)\n{\n");
     emit_seeds(b, 0, count, P);
     for (k = 0; k < nchunk; k++)
-        tp__sbuf_printf(b, "jc_%d(v, aux, tan, NULL, NULL, NULL, NULL, 0);\n",
-                        k);
+        tp__sbuf_printf(b, "jc_%d(v, aux, tan, NULL, NULL, 0);\n", k);
     tp__sbuf_printf(b,
                     "(void)v;\n(void)aux;\n}\n"
                     "TPC_EXPORT const int tpc_jacobian_shape[2] = "

@@ -325,18 +325,14 @@ int tp_taylor2(tp_ws *ws, const double *x, const double *d, double *y,
 
 /* M's columns c0 .. c0 + pc - 1 and h's entries from H, the Hessian
  * columns of one chunk of rate directions (rows: d/dq (n), then d/dqd
- * (n), then d/dt when timed; pc columns), and hacc, what the sweeps
- * gathered of h from the ops on no rate (sweep_ops.h, tp__tau; the
- * chunk's pc columns). hacc NULL: h's entries are there already (the
- * compiled block wrote them), only checked. Returns whether every value
+ * (n), then d/dt when timed; pc columns). Returns whether every value
  * written is finite. With all n columns in one chunk (always so for a
  * compiled block) the d/dqd rows are M itself, row-major: one copy.
  * The arrays never overlap (tape.h says so of tp_lagrange's). */
 TP_INLINE bool store_block_at(const double *restrict H, int n, int c0,
                               int pc, bool timed,
                               const double *restrict qd, double *restrict M,
-                              double *restrict h,
-                              const double *restrict hacc)
+                              double *restrict h)
 {
     const size_t un = (size_t)n, upc = (size_t)pc;
     uint64_t bad = 0;
@@ -357,13 +353,12 @@ TP_INLINE bool store_block_at(const double *restrict H, int n, int c0,
             }
         }
     }
-    if (h && hacc) {
-        /* h_c = hacc_c + sum_j d2L/(dq_j dqd_c) qd_j (+ d2L/(dt dqd_c)),
-         * summed over j from 0 in order, row by row: contiguous columns
-         * (the compiled block sums alike) */
+    if (h) {
+        /* h_c = sum_j d2L/(dq_j dqd_c) qd_j (+ d2L/(dt dqd_c)), summed
+         * from 0 over j in order, row by row: contiguous columns */
         double *hc = h + c0;
         for (k = 0; k < upc; k++)
-            hc[k] = hacc[k];
+            hc[k] = 0.0;
         for (i = 0; i < un; i++) {
             const double *r = H + i * upc, qi = qd[i];
             for (k = 0; k < upc; k++)
@@ -372,10 +367,9 @@ TP_INLINE bool store_block_at(const double *restrict H, int n, int c0,
         if (timed)
             for (k = 0; k < upc; k++)
                 hc[k] += H[2 * un * upc + k];
-    }
-    if (h)
         for (k = 0; k < upc; k++)
-            TP_NONFINITE_OR(bad, h[(size_t)c0 + k]);
+            TP_NONFINITE_OR(bad, hc[k]);
+    }
     return TP_ALL_FINITE(bad);
 }
 
@@ -388,9 +382,9 @@ TP_INLINE bool store_block_at(const double *restrict H, int n, int c0,
 #define TP_STORE_BLOCK_OF_SIZE(k)                                           \
     TP_NOINLINE static bool store_block_##k(const double *H, bool timed,   \
                                             const double *qd, double *M,   \
-                                            double *h, const double *hacc) \
+                                            double *h)                      \
     {                                                                       \
-        return store_block_at(H, k, 0, k, timed, qd, M, h, hacc);           \
+        return store_block_at(H, k, 0, k, timed, qd, M, h);                 \
     }
 TP_STORE_BLOCK_OF_SIZE(1)
 TP_STORE_BLOCK_OF_SIZE(2)
@@ -406,27 +400,26 @@ TP_STORE_BLOCK_OF_SIZE(6)
  * (no FMA: both clones round alike). */
 TP_VECTOR_CLONES TP_NOINLINE static bool
 store_block_n(const double *H, int n, int c0, int pc, bool timed,
-              const double *qd, double *M, double *h, const double *hacc)
+              const double *qd, double *M, double *h)
 {
-    return store_block_at(H, n, c0, pc, timed, qd, M, h, hacc);
+    return store_block_at(H, n, c0, pc, timed, qd, M, h);
 }
 
 /* The functions of each size, indexed by n. */
 static bool (*const store_block_of_size[])(const double *H, bool timed,
                                            const double *qd, double *M,
-                                           double *h,
-                                           const double *hacc) = {
+                                           double *h) = {
     NULL,          store_block_1, store_block_2, store_block_3,
     store_block_4, store_block_5, store_block_6};
 #define TP_SIZES_UNROLLED 6
 
 TP_INLINE bool store_block(const double *H, int n, int c0, int pc,
                            bool timed, const double *qd, double *M,
-                           double *h, const double *hacc)
+                           double *h)
 {
     if (pc == n && n >= 1 && n <= TP_SIZES_UNROLLED)
-        return store_block_of_size[n](H, timed, qd, M, h, hacc);
-    return store_block_n(H, n, c0, pc, timed, qd, M, h, hacc);
+        return store_block_of_size[n](H, timed, qd, M, h);
+    return store_block_n(H, n, c0, pc, timed, qd, M, h);
 }
 
 int tp_lagrange(tp_ws *ws, const double *x, int out, double *L, double *dLdq,
@@ -466,21 +459,6 @@ TP_INLINE uint64_t lagrange_values(const tp_ws *ws, int out, int n,
     return bad;
 }
 
-void tp__lagrange_h_begin(tp_ws *ws, const double *x, int n, bool timed)
-{
-    /* the taus of q (qd), of the rates (0: read by the ops on none of a
-     * chunk's rates) and of t (1) */
-    double *tau = ws->d1;
-    int j;
-    for (j = 0; j < n; j++) {
-        tau[j] = x[n + j];
-        tau[n + j] = 0.0;
-    }
-    if (timed)
-        tau[2 * n] = 1.0;
-    ws->lag_h = ws->hacc;
-}
-
 /* tp_lagrange_t by the interpreter's sweeps (its arguments checked, and
  * n, timed as it found them), out of line: the compiled route's call
  * then saves only the registers it uses itself. */
@@ -499,8 +477,6 @@ TP_NOINLINE static int lagrange_swept(tp_ws *ws, const double *x, int out,
     if (n == 0 || (!M && !h)) {
         tp__fwd0(ws, x, end);
         tp__rev1(ws, w, end, ws->g);
-    } else {
-        tp__lagrange_h_begin(ws, x, n, timed);
     }
     /* more than one vector of rates in one chunk: each row swept over
      * the columns that can be non-zero in it alone (ranges.c) */
@@ -516,26 +492,16 @@ TP_NOINLINE static int lagrange_swept(tp_ws *ws, const double *x, int out,
             tp__fwd1_ranged(ws, x, n, mask, end);
             tp__rev2_ranged(ws, w, n, mask, end, ws->g, ws->hs);
         }
-        ok &= store_block(ws->hs, n, 0, n, timed, qd, M, h, ws->hacc);
-        memset(ws->hacc, 0, (size_t)tp__lanes(n) * sizeof(double));
+        ok &= store_block(ws->hs, n, 0, n, timed, qd, M, h);
     }
     for (c0 = 0; c0 < n && (M || h) && !ranged; c0 += ws->max_dirs) {
         const int pc = n - c0 < ws->max_dirs ? n - c0 : ws->max_dirs;
         const unsigned mask = tp__unit_seed_mask(T, pc, n + c0);
-        /* a chunk seeding fewer groups than all the rates' leaves ops
-         * outside its mask that depend on other rates: their rows make
-         * M's other rows, so they must pass on, and h is summed from
-         * the rows of q and t alone (hacc stays zero) */
-        ws->lag_h = n <= ws->max_dirs || mask == tp__unit_seed_mask(T, n, n)
-                        ? ws->hacc
-                        : NULL;
         tp__fwd1(ws, x, pc, NULL, 0, n + c0, mask, end);
         tp__rev2(ws, w, pc, mask, end, c0 == 0 ? ws->g : NULL, ws->hs,
                  (size_t)pc);
-        ok &= store_block(ws->hs, n, c0, pc, timed, qd, M, h, ws->hacc);
-        memset(ws->hacc, 0, (size_t)tp__lanes(pc) * sizeof(double));
+        ok &= store_block(ws->hs, n, c0, pc, timed, qd, M, h);
     }
-    ws->lag_h = NULL;
     if (!ok || !TP_ALL_FINITE(
                    lagrange_values(ws, out, n, timed, L, dLdq, dLdt)))
         return TP_WARN_NONFINITE;
@@ -563,10 +529,8 @@ int tp_lagrange_t(tp_ws *ws, const double *x, int out, double *L,
     if (!cc || !cc->lagrange || cc->lout != out || cc->lfirst != n ||
         n > ws->max_dirs || (!M && !h))
         return lagrange_swept(ws, x, out, n, timed, L, dLdq, dLdt, M, h);
-    /* the block writes h itself (without h wanted, into row 0 of hs,
-     * which it does not use: the q rows) */
-    tp__lagrange_compiled(ws, x, ws->g, ws->hs, h ? h : ws->hs);
-    if (!store_block(ws->hs, n, 0, n, timed, x + n, M, h, NULL) ||
+    tp__lagrange_compiled(ws, x, ws->g, ws->hs);
+    if (!store_block(ws->hs, n, 0, n, timed, x + n, M, h) ||
         !TP_ALL_FINITE(lagrange_values(ws, out, n, timed, L, dLdq, dLdt)))
         return TP_WARN_NONFINITE;
     return TP_OK;

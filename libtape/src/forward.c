@@ -220,15 +220,11 @@ void tp__fwd1_ranged(tp_ws *ws, const double *x, int n, unsigned mask,
     }
 }
 
-void tp__lagrange_compiled(tp_ws *ws, const double *x, double *g, double *H,
-                           double *h)
+void tp__lagrange_compiled(tp_ws *ws, const double *x, double *g, double *H)
 {
     prepare_tangents(ws, ws->cc->lmask, ws->P);
     load_leaves(ws, x);
-    /* tau in d1 (as the interpreter's Lagrange sweeps keep it): the
-     * block writes the taus of the active ops on no rate only */
-    ws->cc->lagrange(ws->v, ws->aux, ws->tan, ws->cat, ws->cadj, ws->d1, g,
-                     H, h);
+    ws->cc->lagrange(ws->v, ws->aux, ws->tan, ws->cat, ws->cadj, g, H);
 }
 
 void tp__jacobian_compiled(tp_ws *ws, const double *x)

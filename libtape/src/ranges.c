@@ -10,9 +10,6 @@
  * rates only, so the tangent rows form a triangle: about 40 % of the
  * full rows' vectors, and 70 % for the adjoint-tangent rows (50 links).
  *
- * An op on no rate passes no row to its operands (its row goes into h:
- * sweep_ops.h, tp__tau), so the ops below those have empty ranges.
- *
  * Each range is the hull of those columns in whole vectors of TP_LANES. The ranged sweeps
  * (forward.c, reverse.c) run every op's row kernels over its range alone;
  * a column skipped is one the full sweep computes as a sum of products
@@ -65,8 +62,6 @@ void tp__lagrange_ranges(tp_ws *ws, int out, int n, uint32_t end)
 {
     const tp_tape *T = ws->t;
     uint32_t *f = ws->frange, *r = ws->rrange;
-    /* the rates' groups, as tp_lagrange_t seeds them */
-    const unsigned mask = tp__unit_seed_mask(T, n, n);
     uint32_t i;
     memset(f, 0, 2 * (size_t)T->n_ops * sizeof *f);
     memset(r, 0, 2 * (size_t)T->n_ops * sizeof *r);
@@ -85,15 +80,11 @@ void tp__lagrange_ranges(tp_ws *ws, int out, int n, uint32_t end)
     /* backward: r[i] gathers the ranges of op i's readers (all visited
      * before it), then becomes the range its kernels run over: its own
      * row's and, with a second-order term, its operands' tangents'; both
-     * operands' adjoint-tangent rows receive that range, except from an
-     * op on no rate, whose row goes into h instead (sweep_ops.h,
-     * tp__tau): below such ops the ranges stay empty */
+     * operands' adjoint-tangent rows receive that range */
     for (i = end; i-- > T->first_active;) {
         const unsigned op = T->opc[i], fl = T->dep[i];
         const bool bin = tp__op_kind(op) == TP_KIND_BINARY;
         uint32_t *u = r + 2 * i;
-        if (!(fl & mask))
-            continue;
         if (second_order(op, fl)) {
             join(u, f + 2 * (size_t)T->a0[i]);
             if (bin)

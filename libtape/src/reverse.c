@@ -154,7 +154,7 @@ void tp__rev2_ranged(tp_ws *ws, const double *w, int n, unsigned mask,
     const uint32_t fa = T->first_active;
     const uint32_t *rr = ws->rrange;
     tp_kx k = tp__kx(ws, 0, mask);
-    double *atan = ws->atan, *tan = ws->tan, *h = ws->lag_h;
+    double *atan = ws->atan, *tan = ws->tan;
     uint32_t i;
 
     tp__rev2_ranged_seed(ws, w);
@@ -162,8 +162,6 @@ void tp__rev2_ranged(tp_ws *ws, const double *w, int n, unsigned mask,
         const size_t off = TP_LANES * (size_t)rr[2 * i];
         k.tan = tan + off;
         k.atan = atan + off;
-        if (h)
-            k.h = h + off;
         k.pr = TP_LANES * (int)(rr[2 * i + 1] - rr[2 * i]);
         tp__k_rev2(&k, i, rec[i].op, rec[i].fl, rec[i].u, rec[i].t);
     }

@@ -27,10 +27,7 @@
  * gradient is taken after the first strip). Every op a visited op writes
  * into is visited later in the strip (an operand's range holds its
  * readers'), so the slots left non-zero are the independents', zeroed at
- * the end. In tp_lagrange_t's sweeps (ws->lag_h set) an op on no rate
- * adds its row to h and passes nothing on (sweep_ops.h, tp__tau): in a
- * later strip it only does that and clears its slot, since the ops below
- * it have empty ranges and are not visited there. The strip rows are zero between strips: each op's tangent
+ * the end. The strip rows are zero between strips: each op's tangent
  * columns are cleared once its readers have read them, the reverse
  * kernels clear the adjoint-tangent rows they consume, and the
  * independents' rows are cleared after their columns are copied out.
@@ -88,7 +85,7 @@ void tp__lagrange_strips(tp_ws *ws, const double *x, const double *w, int n,
     /* at least a vector: a narrower width would never end */
     const uint32_t sv = width >= TP_LANES ? (uint32_t)(width / TP_LANES) : 1;
     double *st = ws->stan, *sa = ws->satan, *adj = ws->adj;
-    double *abar = ws->abar, *h = ws->lag_h; /* h: whole rows, n wide */
+    double *abar = ws->abar;
     tp_kx k = tp__kx(ws, 0, mask);
     uint32_t s0, i, lo, hi;
     int c;
@@ -118,19 +115,7 @@ void tp__lagrange_strips(tp_ws *ws, const double *x, const double *w, int n,
         for (i = end; i-- > T->first_active;) {
             uint32_t flo, fhi;
             const bool met = meet(rr + 2 * i, s0, s1, &lo, &hi);
-            if (!first && met && h && !(rec[i].fl & mask)) {
-                /* an op on no rate in a later strip: only its row into h,
-                 * as its kernel does (TP_REV2_BEGIN); its adjoint went
-                 * down in the first strip (what its readers added to the
-                 * slot since is dropped), and its operands, whose ranges
-                 * are empty, are not visited again */
-                adj[i] = 0.0;
-                if (ws->anz[i])
-                    tp__h_add(h + TP_LANES * (size_t)lo,
-                              sa + i * W + TP_LANES * (size_t)(lo - s0),
-                              ws->d1[i], TP_LANES * (int)(hi - lo));
-                ws->anz[i] = 0;
-            } else if (first || met) {
+            if (first || met) {
                 if (first)
                     abar[i] = adj[i];
                 else
@@ -139,8 +124,6 @@ void tp__lagrange_strips(tp_ws *ws, const double *x, const double *w, int n,
                     lo = hi = s0;
                 k.tan = st + TP_LANES * (size_t)(lo - s0);
                 k.atan = sa + TP_LANES * (size_t)(lo - s0);
-                if (h)
-                    k.h = h + TP_LANES * (size_t)lo;
                 k.pr = TP_LANES * (int)(hi - lo);
                 tp__k_rev2(&k, i, rec[i].op, rec[i].fl, rec[i].u, rec[i].t);
             }

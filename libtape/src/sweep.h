@@ -36,7 +36,6 @@ static inline tp_kx tp__kx(tp_ws *ws, int pr, unsigned mask)
     x.anz = ws->anz;
     x.d1 = ws->d1;
     x.d2 = ws->d2;
-    x.h = ws->lag_h;
     x.P = (size_t)ws->P;
     x.pr = pr;
     x.mask = mask;

@@ -81,11 +81,8 @@ TP_KERNEL void tp__one_fwd1(const tp_kx *x, uint32_t i, unsigned op,
     switch (op) {
     case TP_OP_ADD:
         tp__value_ADD(x, i, op, fl, u, t);
-        if (!(fl & x->mask)) {
-            if (x->h)
-                tp__tau(x, i, op, fl, u, t);
+        if (!(fl & x->mask))
             return;
-        }
         if (fl & TP_DEP_TPASSIVE)
             V_COPY(R1(i), R1(u));
         else if (fl & TP_DEP_UPASSIVE)
@@ -95,11 +92,8 @@ TP_KERNEL void tp__one_fwd1(const tp_kx *x, uint32_t i, unsigned op,
         return;
     case TP_OP_SUB:
         tp__value_SUB(x, i, op, fl, u, t);
-        if (!(fl & x->mask)) {
-            if (x->h)
-                tp__tau(x, i, op, fl, u, t);
+        if (!(fl & x->mask))
             return;
-        }
         if (fl & TP_DEP_TPASSIVE)
             V_COPY(R1(i), R1(u));
         else if (fl & TP_DEP_UPASSIVE)
@@ -109,11 +103,8 @@ TP_KERNEL void tp__one_fwd1(const tp_kx *x, uint32_t i, unsigned op,
         return;
     case TP_OP_MUL:
         tp__value_MUL(x, i, op, fl, u, t);
-        if (!(fl & x->mask)) {
-            if (x->h)
-                tp__tau(x, i, op, fl, u, t);
+        if (!(fl & x->mask))
             return;
-        }
         if (fl & TP_DEP_TPASSIVE)
             V_SCALE(R1(i), R1(u), v[t]);
         else if (fl & TP_DEP_UPASSIVE)
@@ -127,8 +118,6 @@ TP_KERNEL void tp__one_fwd1(const tp_kx *x, uint32_t i, unsigned op,
         tp__value_##OP(x, i, op, fl, u, t);                                \
         if (fl & x->mask)                                                  \
             V_SCALE(R1(i), R1(u), (f));                                    \
-        else if (x->h)                                                     \
-            tp__tau(x, i, op, fl, u, t);                                   \
         return;
         ONE_FWD1_UNARY(NEG, -1.0)
         ONE_FWD1_UNARY(ADDC, 1.0)
@@ -195,14 +184,6 @@ TP_KERNEL void tp__one_fwd1(const tp_kx *x, uint32_t i, unsigned op,
             V_LIN1(ru, ra, fs_);                                           \
     } while (0)
 
-/* tp__h_add: h += tau ra, ra zeroed */
-#define V_HADD(h, ra, tau)                                                 \
-    do {                                                                   \
-        const tp_v4 f_ = V_SPLAT(tau);                                     \
-        V_ROWS(V_ST(h + o_, V_LD(h + o_) + f_ * V_LD(ra + o_));            \
-               V_ZERO(ra + o_));                                           \
-    } while (0)
-
 /* TP_REV2_BEGIN for op OP in a case of its own: take the adjoint a; an op
  * whose row is known zero and that adds no second-order term propagates
  * only its scalar adjoint; otherwise flag the operands' rows non-zero. */
@@ -211,13 +192,6 @@ TP_KERNEL void tp__one_fwd1(const tp_kx *x, uint32_t i, unsigned op,
     second = a != 0.0 && (fl & x->mask);                                   \
     adj[i] = 0.0;                                                          \
     if (!x->anz[i] && !second) {                                           \
-        if (a != 0.0)                                                      \
-            tp__adj1_##OP(x, i, op, fl, u, t, a);                          \
-        return;                                                            \
-    }                                                                      \
-    if (x->h && !(fl & x->mask)) { /* tp__h_add */                        \
-        V_HADD(x->h, A1(i), x->d1[i]);                                     \
-        x->anz[i] = 0;                                                     \
         if (a != 0.0)                                                      \
             tp__adj1_##OP(x, i, op, fl, u, t, a);                          \
         return;                                                            \

@@ -57,9 +57,7 @@ typedef struct tp_kx {
     double *adj;         /* adjoints */
     double *tan, *atan;  /* tangent and adjoint-tangent rows */
     uint8_t *anz;        /* 0: that adjoint-tangent row is known zero */
-    double *d1, *d2;     /* Taylor coefficients; the Lagrange sweeps keep
-                            tau in d1 (tp__tau) */
-    double *h;           /* the Lagrange sweeps' h row (tp__tau), else NULL */
+    double *d1, *d2;     /* Taylor coefficients */
     size_t P;            /* row stride */
     int pr;              /* columns swept, a multiple of TP_LANES */
     unsigned mask;       /* the seeded groups */
@@ -227,57 +225,6 @@ TP_ROW void tp__row_comb(double *restrict r, const double *restrict a,
     FOR_LANES(k, pr) r[k] = fa * a[k] + fb * b[k];
 }
 
-/* The Lagrange sweeps (tp_lagrange_t, x->h not NULL) form h =
- * (d2L/dqd dq) qd + d2L/dqd dt without carrying rows below the ops on no
- * seeded group (no rate): there every tangent of the rate directions is
- * zero, so the adjoint-tangent rows reaching such ops would only pass
- * linearly down to q and t, where h sums them times qd and 1. Instead
- * such an op keeps tau_i, its first-order tangent along (qd on q, 1 on
- * t), and adds tau_i times its row to h when its row is reached
- * (TP_REV2_BEGIN); the rows of q and t are summed into h at the end
- * (drivers.c). Only the summation order of h differs from summing all
- * rows at q and t. tau_i is the formula of the op's fwd1 row kernel
- * below with the rows replaced by the operands' taus (d1 of q_j is qd_j,
- * of t 1, of a passive slot 0); the compiled Lagrange block
- * (codegen_lagrange.c) writes the same expressions. */
-TP_KERNEL void tp__tau(const tp_kx *x, uint32_t i, unsigned op, unsigned fl,
-                       uint32_t u, uint32_t t)
-{
-    double *d = x->d1;
-    const double *v = x->v;
-    tp_partials p;
-    switch (op) {
-    case TP_OP_ADD:
-        d[i] = TP_TPASSIVE(fl)   ? d[u]
-               : TP_UPASSIVE(fl) ? d[t]
-                                 : d[u] + d[t];
-        return;
-    case TP_OP_SUB:
-        d[i] = TP_TPASSIVE(fl)   ? d[u]
-               : TP_UPASSIVE(fl) ? -1.0 * d[t]
-                                 : d[u] - d[t];
-        return;
-    case TP_OP_MUL:
-        d[i] = TP_TPASSIVE(fl)   ? v[t] * d[u]
-               : TP_UPASSIVE(fl) ? v[u] * d[t]
-                                 : v[t] * d[u] + v[u] * d[t];
-        return;
-    case TP_OP_NEG:
-    case TP_OP_CSUB: d[i] = -1.0 * d[u]; return;
-    case TP_OP_ADDC: d[i] = 1.0 * d[u]; return;
-    case TP_OP_MULC: d[i] = x->K[t] * d[u]; return;
-    case TP_OP_SQR: d[i] = (2.0 * v[u]) * d[u]; return;
-    case TP_OP_SIN: d[i] = x->aux[i] * d[u]; return;
-    case TP_OP_COS: d[i] = (-x->aux[i]) * d[u]; return;
-    default: break;
-    }
-    tp__gen_partials(x->K, v, x->aux, i, op, u, t, &p);
-    if (tp__op_kind(op) == TP_KIND_BINARY)
-        d[i] = p.fu * d[u] + p.ft * d[t];
-    else
-        d[i] = p.fu * d[u];
-}
-
 /* Each computes op i's value and, if the op depends on a seeded group, its
  * tangent row; an op outside the seeded groups keeps a zero row
  * (forward.c's invariant). R(s) is the tangent row of slot s. */
@@ -287,11 +234,8 @@ TP_KERNEL void tp__tau(const tp_kx *x, uint32_t i, unsigned op, unsigned fl,
 TP_OPFN(fwd1, ADD)
 {
     tp__value_ADD(x, i, op, fl, u, t);
-    if (!ACTIVE) {
-        if (x->h)
-            tp__tau(x, i, op, fl, u, t);
+    if (!ACTIVE)
         return;
-    }
     if (fl & TP_DEP_TPASSIVE)
         tp__row_copy(R(i), R(u), x->pr);
     else if (fl & TP_DEP_UPASSIVE)
@@ -303,11 +247,8 @@ TP_OPFN(fwd1, ADD)
 TP_OPFN(fwd1, SUB)
 {
     tp__value_SUB(x, i, op, fl, u, t);
-    if (!ACTIVE) {
-        if (x->h)
-            tp__tau(x, i, op, fl, u, t);
+    if (!ACTIVE)
         return;
-    }
     if (fl & TP_DEP_TPASSIVE)
         tp__row_copy(R(i), R(u), x->pr);
     else if (fl & TP_DEP_UPASSIVE)
@@ -320,11 +261,8 @@ TP_OPFN(fwd1, MUL)
 {
     const double *v = x->v;
     tp__value_MUL(x, i, op, fl, u, t);
-    if (!ACTIVE) {
-        if (x->h)
-            tp__tau(x, i, op, fl, u, t);
+    if (!ACTIVE)
         return;
-    }
     if (fl & TP_DEP_TPASSIVE)
         tp__row_scale(R(i), R(u), v[t], x->pr);
     else if (fl & TP_DEP_UPASSIVE)
@@ -340,8 +278,6 @@ TP_OPFN(fwd1, MUL)
         tp__value_##OP(x, i, op, fl, u, t);                                \
         if (ACTIVE)                                                        \
             tp__row_scale(R(i), R(u), (f), x->pr);                         \
-        else if (x->h)                                                     \
-            tp__tau(x, i, op, fl, u, t);                                   \
     }
 TP_FWD1_UNARY(NEG, -1.0)
 TP_FWD1_UNARY(ADDC, 1.0) /* 1 * row: the row itself, exactly */
@@ -355,11 +291,8 @@ TP_OPFN(fwd1, GEN)
 {
     tp_partials d;
     tp__value_GEN(x, i, op, fl, u, t);
-    if (!ACTIVE) { /* structurally zero tangent; row stays zero */
-        if (x->h)
-            tp__tau(x, i, op, fl, u, t);
-        return;
-    }
+    if (!ACTIVE)
+        return; /* structurally zero tangent; row stays zero */
     tp__gen_partials(x->K, x->v, x->aux, i, op, u, t, &d);
     if (tp__op_kind(op) == TP_KIND_BINARY)
         tp__row_comb(R(i), R(u), R(t), d.fu, d.ft, x->pr);
@@ -510,17 +443,6 @@ TP_ROW void tp__adj_2nd2(double *restrict ru, double *restrict rt,
     }
 }
 
-/* The row ra of an op on no rate into the Lagrange sweeps' h (tp__tau):
- * h += tau ra, ra consumed and zeroed. */
-TP_ROW void tp__h_add(double *restrict h, double *restrict ra, double tau,
-                      int p)
-{
-    FOR_LANES(k, p) {
-        h[k] = h[k] + tau * ra[k];
-        ra[k] = 0.0;
-    }
-}
-
 /* One active operand with partials f, ff (its first and second): the
  * update of that operand's adjoint and row. */
 TP_KERNEL void tp__rev2_one(double *adj_u, double *ru, double *ra,
@@ -549,13 +471,6 @@ TP_KERNEL void tp__rev2_one(double *adj_u, double *ru, double *ra,
     (void)second, (void)p, (void)op;                                       \
     ADJ[i] = 0.0;                                                          \
     if (!x->anz[i] && !second) {                                           \
-        if (a != 0.0)                                                      \
-            tp__adj1_##OP(x, i, op, fl, u, t, a);                          \
-        return;                                                            \
-    }                                                                      \
-    if (x->h && !(fl & x->mask)) { /* below: tp__tau */                   \
-        tp__h_add(x->h, A(i), x->d1[i], p);                                \
-        x->anz[i] = 0;                                                     \
         if (a != 0.0)                                                      \
             tp__adj1_##OP(x, i, op, fl, u, t, a);                          \
         return;                                                            \

@@ -235,10 +235,6 @@ struct tp_ws {
     double *d1, *d2;  /* [n_ops] Taylor coefficients */
     double *param;    /* [n_param] parameter values in use */
     double *hs;       /* [n_indep * P] scratch for Hessian columns */
-    /* [P] tp_lagrange_t's h accumulated by its sweeps (sweep_ops.h,
-     * tp__tau; zero between sweeps), and lag_h: hacc while those sweeps
-     * run (the kernels' x->h), else NULL */
-    double *hacc, *lag_h;
     double *g;        /* [n_indep] scratch for gradients */
     double *wout;     /* [n_out] scratch for output weights */
     bool passive_stale; /* v of the passive ops needs recomputing */
@@ -281,7 +277,7 @@ void tp__taylor2(tp_ws *ws, const double *x, const double *d, uint32_t end);
 /* The compiled Lagrange block of ws->cc at x: g[n_indep] and H (n_indep x
  * lcount), keeping the tangent rows to fwd1's invariant (forward.c). */
 void tp__lagrange_compiled(tp_ws *ws, const double *x, double *g,
-                           double *H, double *h);
+                           double *H);
 /* The compiled Jacobian block of ws->cc at x: the values and tangent rows
  * of every output's cone in ws, as tp__fwd1 with unit directions on
  * every independent leaves them for the outputs (forward.c). */
@@ -290,13 +286,6 @@ void tp__jacobian_compiled(tp_ws *ws, const double *x);
  * (ranges.c): unit directions on independents n .. 2n-1, n <= max_dirs,
  * for output ws->range_out, after tp__lagrange_ranges(ws, out, n, end). */
 void tp__lagrange_ranges(tp_ws *ws, int out, int n, uint32_t end);
-/* The Lagrange sweeps' h (sweep_ops.h, tp__tau) for the n rates of x
- * (2n independents, + 1 when timed): the independents' taus, and
- * ws->lag_h = ws->hacc, so that the next forward sweeps keep the taus of
- * the ops on no rate and the reverse sweeps add their rows to hacc
- * (drivers.c; the caller sets lag_h back to NULL and clears hacc). The
- * ranges (tp__lagrange_ranges) hold for these sweeps only. */
-void tp__lagrange_h_begin(tp_ws *ws, const double *x, int n, bool timed);
 void tp__fwd1_ranged(tp_ws *ws, const double *x, int n, unsigned mask,
                      uint32_t end);
 void tp__rev2_ranged(tp_ws *ws, const double *w, int n, unsigned mask,

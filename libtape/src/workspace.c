@@ -38,7 +38,6 @@ static void ws_release(tp_ws *ws)
     tp__free(&al, ws->rrange, 2 * n * sizeof(uint32_t));
     tp__free(&al, ws->rec, n * sizeof(tp_oprec));
     tp__free(&al, ws->abar, n * sizeof(double));
-    tp__free(&al, ws->hacc, P * sizeof(double));
     tp__free(&al, ws->strip_buf, strip_len(n, ws->strip_w) * sizeof(double));
     if (T) {
         tp__free(&al, ws->param, T->n_param * sizeof(double));
@@ -62,14 +61,12 @@ size_t tp_ws_bytes(const tp_tape *t, int max_dirs)
         return 0;
     n = t->n_ops;
     P = ((size_t)max_dirs + TP_LANES - 1) / TP_LANES * TP_LANES;
-    /* what tp_ws_new allocates: tan and atan (n x P), hs (n_indep x P)
-     * and hacc (P),
+    /* what tp_ws_new allocates: tan and atan (n x P), hs (n_indep x P),
      * five arrays of n doubles (v, aux, adj, d1, d2), strips.c's abar and
      * anz, the two range arrays (4 x n uint32_t), the op records,
      * strips.c's rows, the parameters, outputs and gradient */
     b = tp__mulsz(tp__mulsz(tp__mulsz(n, P), 2), sizeof(double));
-    b = addsz(b, tp__mulsz(tp__mulsz((size_t)t->n_indep + 1, P),
-                           sizeof(double)));
+    b = addsz(b, tp__mulsz(tp__mulsz(t->n_indep, P), sizeof(double)));
     b = addsz(b,
               tp__mulsz(n, 6 * sizeof(double) + 1 + 4 * sizeof(uint32_t) +
                                sizeof(tp_oprec)));
@@ -122,7 +119,6 @@ int tp_ws_new(tp_ws **out, const tp_tape *t, int max_dirs,
     ws->rrange = tp__calloc(&a, 2 * n, sizeof(uint32_t));
     ws->rec = tp__calloc(&a, n, sizeof(tp_oprec));
     ws->abar = tp__calloc(&a, n, sizeof(double));
-    ws->hacc = tp__calloc(&a, P, sizeof(double));
     ws->strip_w = tp__strip_width(max_dirs);
     if (ws->strip_w) {
         const size_t len = strip_len(n, ws->strip_w);
@@ -143,7 +139,7 @@ int tp_ws_new(tp_ws **out, const tp_tape *t, int max_dirs,
     ws->range_out = -1;
     if (!ws->v || !ws->aux || !ws->adj || !ws->tan || !ws->atan || !ws->anz || !ws->d1 ||
         !ws->d2 || !ws->param || !ws->hs || !ws->wout ||
-        !ws->g || !ws->frange || !ws->rrange || !ws->rec || !ws->abar || !ws->hacc ||
+        !ws->g || !ws->frange || !ws->rrange || !ws->rec || !ws->abar ||
         (ws->strip_w && !ws->strip_buf)) {
         ws_release(ws);
         return TP_ERR_NOMEM;

@@ -450,11 +450,10 @@ static void order(void)
     printf("stiff spring: erk references at 1e-12 and 1e-13 differ by "
            "%.3g\n", hand_max_diff(4, ref, ref2));
     /* the two differ by rounding carried through 10 s of stiff motion,
-     * not by their tolerances: with k changed by 1e-15 relative they
-     * differed by 1.1e-9 to 3.8e-9 (3.6e-10 before h's summation order
-     * changed, libtape/src/sweep_ops.h tp__tau), against the errors of
-     * 8e-9 and more that the order below is measured from (the
-     * fixed steps: 1.2e-6 and more) */
+     * not by their tolerances: 3.6e-10 here, and 1.1e-9 to 3.8e-9 with
+     * h summed in another order and k changed by 1e-15 relative,
+     * against the errors of 8e-9 and more that the order below is
+     * measured from (the fixed steps: 1.2e-6 and more) */
     CHECK(hand_max_diff(4, ref, ref2) < 1e-8);
     p = order_on(s, ref, 6, "spring pendulum k 7500");
     CHECK(p > 4.5 && p < 6.0);
