@@ -453,11 +453,11 @@ static void drift(const char *file)
             CHECK_FAIL_("%s %s: tangency %.3g with projection", file,
                         eom_method_name(methods[mi]), on);
         CHECK(off > 1e-9);
-        /* how much less depends on the run's last bits: closed-chain
-         * with adams gave 0.05 of the drift without, and 0.1 to 0.68
-         * with its first coordinate moved by 1e-15 or 1e-14 (four-bar:
-         * below 0.05); without Baumgarte's terms in the sensitivities
-         * the two runs are one */
+        /* less drift with Baumgarte's terms; how much less depends on
+         * the run's last bits: closed-chain with adams gave 0.05 of the
+         * drift without, and 0.1 to 0.68 with its first coordinate
+         * moved by 1e-15 or 1e-14 and h summed in another order
+         * (four-bar: below 0.05 of it) */
         if (!(baum <= 0.8 * off))
             CHECK_FAIL_("%s %s: tangency %.3g with Baumgarte, %.3g "
                         "without", file, eom_method_name(methods[mi]), baum,
